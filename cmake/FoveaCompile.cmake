@@ -1,0 +1,24 @@
+# Warnings and sanitizers applied to every Fovea target through fovea_target_defaults().
+
+set(_fovea_sanitize_flags "")
+if(FOVEA_SANITIZE)
+    if(FOVEA_SANITIZE MATCHES "thread" AND FOVEA_SANITIZE MATCHES "address")
+        message(FATAL_ERROR "FOVEA_SANITIZE: thread cannot be combined with address")
+    endif()
+    set(_fovea_sanitize_flags -fsanitize=${FOVEA_SANITIZE} -fno-omit-frame-pointer -g)
+    if(FOVEA_SANITIZE MATCHES "undefined")
+        list(APPEND _fovea_sanitize_flags -fno-sanitize-recover=undefined)
+    endif()
+    # Sanitizers must see every translation unit, including third-party headers we instantiate.
+    add_compile_options(${_fovea_sanitize_flags})
+    add_link_options(${_fovea_sanitize_flags})
+endif()
+
+function(fovea_target_defaults target)
+    target_compile_options(${target} PRIVATE
+        $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow=local>
+        $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-Wall -Wextra -Wpedantic>)
+    if(FOVEA_WERROR)
+        target_compile_options(${target} PRIVATE -Werror)
+    endif()
+endfunction()

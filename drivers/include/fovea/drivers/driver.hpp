@@ -1,0 +1,72 @@
+// The Driver interface: one implementation per protocol under drivers/<name>/, registered with
+// one line in drivers/registry.cpp. drivers/sim is the sample to copy.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <toml++/toml.h>
+
+#include "fovea/gaze/sample.hpp"
+#include "fovea/result.hpp"
+
+namespace fovea::drivers {
+
+struct DriverInfo {
+    std::string driver;       // registry name: "sim", "serial", ...
+    std::string name;         // human-readable device name, e.g. "Fovea serial tracker v1"
+    std::string address;      // port, TCP address, VID:PID, ...
+    double nominal_rate_hz = 0.0;
+    gaze::DeviceClock clock;
+    bool binocular = true;
+    bool has_pupil = false;
+};
+
+// Counters every driver keeps; `fovea status` shows them.
+struct DriverStats {
+    uint64_t samples = 0;         // good samples delivered to the sink
+    uint64_t frames_dropped = 0;  // malformed, wrong CRC, absurd values, ...
+    uint64_t frames_lost = 0;     // gaps in the device's sequence counter
+    uint64_t resyncs = 0;         // times the parser had to hunt for a frame boundary
+    uint64_t bytes = 0;
+    uint64_t reconnects = 0;
+    bool connected = false;
+    std::string last_error;
+};
+
+// Called on the io_context's thread with every good sample, in order.
+using SampleSink = std::function<void(const gaze::RawSample&)>;
+
+class Driver {
+public:
+    virtual ~Driver() = default;
+
+    // Start delivering samples to `sink`. Called once, on the loop thread; must not block.
+    // A device that is absent is not an error: the driver keeps retrying with backoff and
+    // reports connected = false. Errors are for configurations that can never work.
+    virtual Result<void> open(boost::asio::io_context& io, SampleSink sink) = 0;
+    // Stop and release the device. Loop thread; the sink is not called after it returns.
+    virtual void close() = 0;
+    // Any thread.
+    virtual DriverInfo describe() const = 0;
+    virtual DriverStats stats() const = 0;
+};
+
+// A driver is built from its `[[device]]` table of the daemon's TOML configuration.
+using DriverFactory = Result<std::unique_ptr<Driver>> (*)(const toml::table& config,
+                                                          uint32_t device_id);
+
+struct DriverRegistration {
+    const char* name;
+    DriverFactory factory;
+};
+
+// Every driver compiled in (drivers/registry.cpp).
+const DriverRegistration* registered_drivers(std::size_t& count);
+// Build the driver named by config["driver"] (default "sim").
+Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id);
+
+}  // namespace fovea::drivers

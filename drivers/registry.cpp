@@ -1,0 +1,31 @@
+#include <iterator>
+#include <string>
+
+#include "fovea/drivers/driver.hpp"
+#include "sim/sim_driver.hpp"
+
+namespace fovea::drivers {
+namespace {
+
+// One line per driver.
+constexpr DriverRegistration kDrivers[] = {
+    {"sim", &sim::make_driver},
+};
+
+}  // namespace
+
+const DriverRegistration* registered_drivers(std::size_t& count) {
+    count = std::size(kDrivers);
+    return kDrivers;
+}
+
+Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id) {
+    const std::string name = config["driver"].value_or(std::string("sim"));
+    for (const auto& d : kDrivers)
+        if (name == d.name) return d.factory(config, device_id);
+    std::string known;
+    for (const auto& d : kDrivers) known += std::string(known.empty() ? "" : ", ") + d.name;
+    return make_error("unknown driver '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace fovea::drivers

@@ -1,0 +1,105 @@
+// Header-only RAII C++ over the C client (fovea/client.h): codes become fovea::ClientError
+// exceptions, the handle is owned by fovea::Client. Everything stays inline so the C ABI is the
+// only binary interface.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fovea/client.h"
+
+namespace fovea {
+
+class ClientError : public std::runtime_error {
+public:
+    ClientError(int status, const std::string& what) : std::runtime_error(what), status_(status) {}
+    int status() const { return status_; }
+
+private:
+    int status_;
+};
+
+class Client {
+public:
+    explicit Client(const std::string& instance = "default",
+                    fovea_stream_kind kind = FOVEA_STREAM_GAZE) {
+        check(fovea_client_open(instance.c_str(), kind, &c_));
+    }
+    Client(Client&& o) noexcept : c_(std::exchange(o.c_, nullptr)) {}
+    Client& operator=(Client&& o) noexcept {
+        if (this != &o) {
+            fovea_client_close(&c_);
+            c_ = std::exchange(o.c_, nullptr);
+        }
+        return *this;
+    }
+    Client(const Client&) = delete;
+    Client& operator=(const Client&) = delete;
+    ~Client() { fovea_client_close(&c_); }
+
+    fovea_ring_info info() const {
+        fovea_ring_info i{};
+        check(fovea_client_info(c_, &i));
+        return i;
+    }
+    uint64_t head() const { return fovea_client_head(c_); }
+
+    // The newest record, or nullopt before the first publish.
+    std::optional<fovea_gaze_record> latest() {
+        fovea_gaze_record r{};
+        const int s = fovea_client_latest(c_, &r);
+        if (s == FOVEA_E_NO_DATA || s == FOVEA_E_WRITER_RESTARTED) return std::nullopt;
+        check(s);
+        return r;
+    }
+
+    struct Batch {
+        std::vector<fovea_gaze_record> records;
+        uint64_t dropped = 0;
+        bool writer_restarted = false;  // cursor was reset to the new generation's head
+    };
+
+    // Records from *cursor on (at most max), advancing the cursor.
+    Batch read(uint64_t& cursor, uint32_t max = 256) {
+        Batch b;
+        b.records.resize(max);
+        uint32_t n = 0;
+        const int s = fovea_client_read(c_, &cursor, b.records.data(), max, &n, &b.dropped);
+        if (s == FOVEA_E_WRITER_RESTARTED) {
+            b.writer_restarted = true;
+            cursor = head();
+        } else {
+            check(s);
+        }
+        b.records.resize(n);
+        return b;
+    }
+
+    // True when a record at or after cursor exists, false on timeout. Throws on other errors;
+    // a restarted writer resets cursor to the new head and returns false.
+    bool wait(uint64_t& cursor, int32_t timeout_ms) {
+        const int s = fovea_client_wait(c_, cursor, timeout_ms);
+        if (s == FOVEA_OK) return true;
+        if (s == FOVEA_E_TIMEOUT) return false;
+        if (s == FOVEA_E_WRITER_RESTARTED) {
+            cursor = head();
+            return false;
+        }
+        check(s);
+        return false;
+    }
+
+    fovea_client* handle() const { return c_; }
+
+private:
+    static void check(int status) {
+        if (status != FOVEA_OK) throw ClientError(status, fovea_last_error());
+    }
+    fovea_client* c_ = nullptr;
+};
+
+}  // namespace fovea
