@@ -115,7 +115,9 @@ void RingWriter::close() {
         syscall(SYS_futex, &view_.header->futex_word, FUTEX_WAKE, INT32_MAX, nullptr, nullptr, 0);
         munmap(view_.header, bytes_);
         view_ = RingView{};
-        shm_unlink(name_.c_str());
+        // A newer writer may already have replaced our object; never unlink its ring.
+        struct stat st {};
+        if (fstat(fd_, &st) == 0 && st.st_nlink > 0) shm_unlink(name_.c_str());
     }
     if (fd_ >= 0) ::close(std::exchange(fd_, -1));
 }
