@@ -40,6 +40,20 @@ struct DriverStats {
 // Called on the io_context's thread with every good sample, in order.
 using SampleSink = std::function<void(const gaze::RawSample&)>;
 
+// A head pose from a head tracker (HID usage 0x12:0x02); the daemon publishes it into a
+// FOVEA_STREAM_HEAD ring (fovea_head_record). Absent parts have valid_* = false.
+struct HeadPose {
+    uint64_t device_ticks = 0;  // device counter as read; same clock as the device's RawSamples
+    int64_t t_receive_ns = 0;   // host CLOCK_MONOTONIC when the report arrived
+    double position_m[3] = {0, 0, 0};            // tracker frame, metres
+    double direction[3] = {0, 0, 1};             // unit forward direction, tracker frame
+    double rotation_quat[4] = {0, 0, 0, 1};      // x, y, z, w
+    bool position_valid = false, direction_valid = false, rotation_valid = false;
+    uint32_t device_id = 0;
+};
+// Called on the io_context's thread, like SampleSink.
+using HeadSink = std::function<void(const HeadPose&)>;
+
 class Driver {
 public:
     virtual ~Driver() = default;
@@ -53,6 +67,8 @@ public:
     // Any thread.
     virtual DriverInfo describe() const = 0;
     virtual DriverStats stats() const = 0;
+    // Drivers that read head trackers publish head pose here. Call before open(), loop thread.
+    virtual void set_head_sink(HeadSink /*sink*/) {}
 };
 
 // A driver is built from its `[[device]]` table of the daemon's TOML configuration.
