@@ -1,0 +1,85 @@
+#include "config.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace fovea::daemon {
+namespace {
+
+const char* kKnownTopLevel[] = {"instance", "log_level", "ring", "display", "device", "recording",
+                                "zmq", "calibration"};
+
+Error key_error(const std::string& origin, const std::string& key, const std::string& what) {
+    return make_error(origin + ": " + key + ": " + what);
+}
+
+template <typename T>
+Result<void> read_number(const toml::table& t, const char* key, T& out, double lo, double hi,
+                         const std::string& origin, const std::string& prefix) {
+    const toml::node* n = t.get(key);
+    if (!n) return {};
+    std::optional<double> v = n->value<double>();
+    if (!v || !(*v >= lo && *v <= hi))
+        return key_error(origin, prefix + key,
+                         "must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    out = static_cast<T>(*v);
+    return {};
+}
+
+}  // namespace
+
+Result<DaemonConfig> parse_config(const std::string& text, const std::string& origin) {
+    DaemonConfig cfg;
+    cfg.source_path = origin;
+    toml::table root;
+    try {
+        root = toml::parse(text, origin);
+    } catch (const toml::parse_error& e) {
+        const auto& where = e.source().begin;
+        return make_error(origin + ":" + std::to_string(where.line) + ":" +
+                          std::to_string(where.column) + ": " + std::string(e.description()));
+    }
+    for (const auto& [key, node] : root) {
+        bool known = false;
+        for (const char* k : kKnownTopLevel) known = known || key.str() == k;
+        if (!known) return key_error(origin, std::string(key.str()), "unknown key");
+    }
+    if (auto v = root["instance"].value<std::string>()) cfg.instance = *v;
+    if (auto v = root["log_level"].value<std::string>()) cfg.log_level = *v;
+    if (const toml::table* ring = root["ring"].as_table()) {
+        if (auto r = read_number(*ring, "slots", cfg.ring_slots, 16, 1 << 20, origin, "ring."); !r)
+            return r.error();
+    }
+    if (const toml::table* d = root["display"].as_table()) {
+        auto& g = cfg.display;
+        for (auto r : {read_number(*d, "width_px", g.width_px, 1, 65536, origin, "display."),
+                       read_number(*d, "height_px", g.height_px, 1, 65536, origin, "display."),
+                       read_number(*d, "width_m", g.width_m, 1e-3, 100, origin, "display."),
+                       read_number(*d, "height_m", g.height_m, 1e-3, 100, origin, "display."),
+                       read_number(*d, "distance_m", g.distance_m, 1e-3, 100, origin, "display.")})
+            if (!r) return r.error();
+    }
+    if (const toml::node* devs = root.get("device")) {
+        const toml::array* arr = devs->as_array();
+        if (!arr) return key_error(origin, "device", "must be an array of tables ([[device]])");
+        for (std::size_t i = 0; i < arr->size(); ++i) {
+            const toml::table* t = arr->get(i)->as_table();
+            if (!t) return key_error(origin, "device[" + std::to_string(i) + "]", "must be a table");
+            if (t->contains("driver") && !(*t)["driver"].is_string())
+                return key_error(origin, "device[" + std::to_string(i) + "].driver",
+                                 "must be a string");
+            cfg.devices.push_back(*t);
+        }
+    }
+    return cfg;
+}
+
+Result<DaemonConfig> load_config(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return make_error(path + ": cannot open configuration file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_config(ss.str(), path);
+}
+
+}  // namespace fovea::daemon

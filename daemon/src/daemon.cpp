@@ -1,0 +1,349 @@
+#include "daemon.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <boost/asio/post.hpp>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include <spdlog/spdlog.h>
+
+#ifdef FOVEA_HAVE_SYSTEMD
+#include <systemd/sd-daemon.h>
+#endif
+
+#include "paths.hpp"
+#include "record_convert.hpp"
+
+namespace fovea::daemon {
+
+namespace asio = boost::asio;
+using nlohmann::json;
+
+namespace {
+
+int64_t now_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+void notify(const char* state) {
+#ifdef FOVEA_HAVE_SYSTEMD
+    sd_notify(0, state);
+#else
+    (void)state;
+#endif
+}
+
+std::shared_ptr<spdlog::logger> log() {
+    auto l = spdlog::get("daemon");
+    return l ? l : spdlog::default_logger();
+}
+
+}  // namespace
+
+struct Daemon::Device {
+    uint32_t id = 0;
+    toml::table config;
+    std::unique_ptr<drivers::Driver> driver;
+    std::unique_ptr<gaze::Pipeline> pipeline;
+    drivers::DriverInfo info;
+    bool open = false;
+    std::string open_error;
+    std::unique_ptr<asio::steady_timer> retry;
+    std::chrono::milliseconds backoff{250};
+    uint64_t raw_samples = 0;
+    uint64_t published = 0;
+    uint64_t rate_mark = 0;
+    double measured_rate_hz = 0.0;
+};
+
+Daemon::Daemon(DaemonConfig config, std::string config_path)
+    : config_(std::move(config)),
+      config_path_(std::move(config_path)),
+      signals_(io_),
+      tick_timer_(io_),
+      control_(io_) {}
+
+Daemon::~Daemon() { shutdown(); }
+
+Result<void> Daemon::take_instance_lock() {
+    const std::string dir = runtime_dir();
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return make_error("cannot create runtime directory " + dir + ": " + ec.message());
+    const std::string path = lock_file_path(config_.instance);
+    lock_fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (lock_fd_ < 0) return make_error("cannot open lock file " + path + ": " + std::strerror(errno));
+    if (flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+        char pid[32] = {};
+        [[maybe_unused]] auto n = ::pread(lock_fd_, pid, sizeof pid - 1, 0);
+        ::close(lock_fd_);
+        lock_fd_ = -1;
+        return make_error("another fovead is already running for instance '" + config_.instance +
+                          "' (pid " + std::string(pid[0] ? pid : "?") + ", lock " + path + ")");
+    }
+    const std::string me = std::to_string(getpid()) + "\n";
+    [[maybe_unused]] int r = ftruncate(lock_fd_, 0);
+    [[maybe_unused]] auto w = ::pwrite(lock_fd_, me.data(), me.size(), 0);
+    return {};
+}
+
+Result<void> Daemon::start() {
+    started_ns_ = now_ns();
+    if (auto r = take_instance_lock(); !r) return r;
+
+    ring::WriterOptions ro;
+    ro.instance = config_.instance;
+    ro.slot_count = config_.ring_slots;
+    std::vector<toml::table> device_tables = config_.devices;
+    if (device_tables.empty()) {
+        toml::table sim;
+        sim.insert("driver", "sim");
+        device_tables.push_back(sim);
+    }
+    // Build every driver first: a configuration that can never work fails the start.
+    for (std::size_t i = 0; i < device_tables.size(); ++i) {
+        auto d = std::make_unique<Device>();
+        d->id = static_cast<uint32_t>(i);
+        d->config = device_tables[i];
+        auto drv = drivers::make_driver(d->config, d->id);
+        if (!drv) return make_error("device " + std::to_string(i) + ": " + drv.error().message);
+        d->driver = std::move(drv).value();
+        d->info = d->driver->describe();
+        gaze::PipelineConfig pc;
+        pc.clock = d->info.clock;
+        pc.display = config_.display;
+        pc.nominal_rate_hz = d->info.nominal_rate_hz > 0 ? d->info.nominal_rate_hz : 1000.0;
+        pc.predict_landing = false;  // until a reader attaches (tick())
+        d->pipeline = std::make_unique<gaze::Pipeline>(pc);
+        devices_.push_back(std::move(d));
+    }
+    ro.nominal_rate_hz = static_cast<uint32_t>(devices_.front()->info.nominal_rate_hz);
+    ro.device_name = devices_.front()->info.name;
+    auto ring = ring::RingWriter::create(ro);
+    if (!ring) return make_error("ring: " + ring.error().message);
+    gaze_ring_ = std::move(ring).value();
+
+    register_commands();
+    bool socket_from_systemd = false;
+#ifdef FOVEA_HAVE_SYSTEMD
+    if (sd_listen_fds(1) >= 1) {
+        if (auto r = control_.adopt(SD_LISTEN_FDS_START); !r) return r;
+        socket_from_systemd = true;
+    }
+#endif
+    if (!socket_from_systemd)
+        if (auto r = control_.listen(control_socket_path(config_.instance)); !r) return r;
+
+    for (auto& d : devices_) open_device(*d);
+
+    signals_.add(SIGINT);
+    signals_.add(SIGTERM);
+    signals_.add(SIGHUP);
+    signals_.async_wait([this](boost::system::error_code ec, int signo) {
+        if (!ec) on_signal(signo);
+    });
+#ifdef FOVEA_HAVE_SYSTEMD
+    if (sd_watchdog_enabled(0, &watchdog_usec_) <= 0) watchdog_usec_ = 0;
+#endif
+    tick();
+    log()->info("fovead ready: instance '{}', ring {}, control {}, {} device(s)", config_.instance,
+                gaze_ring_.name(), socket_from_systemd ? "(systemd socket)" : control_.path(),
+                devices_.size());
+    notify("READY=1\nSTATUS=publishing gaze");
+    return {};
+}
+
+void Daemon::open_device(Device& d) {
+    auto r = d.driver->open(io_, [this, &d](const gaze::RawSample& raw) { on_raw(d, raw); });
+    if (r) {
+        d.open = true;
+        d.open_error.clear();
+        d.backoff = std::chrono::milliseconds(250);
+        log()->info("device {} ({}): opened {}", d.id, d.info.driver, d.info.address);
+        return;
+    }
+    // Keep the others running; retry this one with exponential backoff up to 10 s.
+    if (d.open_error != r.error().message)
+        log()->warn("device {} ({}): {}; retrying", d.id, d.info.driver, r.error().message);
+    d.open_error = r.error().message;
+    if (!d.retry) d.retry = std::make_unique<asio::steady_timer>(io_);
+    d.retry->expires_after(d.backoff);
+    d.backoff = std::min(d.backoff * 2, std::chrono::milliseconds(10'000));
+    d.retry->async_wait([this, &d](boost::system::error_code ec) {
+        if (!ec && !stopping_) open_device(d);
+    });
+}
+
+void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
+    ++d.raw_samples;
+    for (auto& o : raw_observers_) o(raw);
+    d.pipeline->process(raw, scratch_);
+    for (auto& s : scratch_) publish(d, s);
+}
+
+void Daemon::publish(Device& d, gaze::GazeSample& s) {
+    if (s.t_processed_ns == 0) s.t_processed_ns = now_ns();
+    s.device_id = d.id;
+    fovea_gaze_record rec = to_ring_record(s, d.info.driver == "sim");
+    gaze_ring_.publish(rec);
+    ++d.published;
+    for (auto& o : published_observers_) o(s, rec);
+}
+
+void Daemon::register_commands() {
+    control_.add_command("status", [this](const json&, const PeerCredentials&) { return status(); },
+                         false, "daemon, devices, rates, drops, latency, uptime");
+    control_.add_command("devices", [this](const json&, const PeerCredentials&) {
+        return json{{"devices", status()["devices"]}};
+    }, false, "the configured devices and their counters");
+    control_.add_command("shutdown", [this](const json&, const PeerCredentials& peer) {
+        log()->info("shutdown requested over the control socket by pid {}", peer.pid);
+        asio::post(io_, [this] { request_stop(); });
+        return json{{"stopping", true}};
+    }, true, "stop the daemon");
+}
+
+json Daemon::status() const {
+    json devices = json::array();
+    for (const auto& d : devices_) {
+        const drivers::DriverStats st = d->driver->stats();
+        devices.push_back({
+            {"id", d->id},
+            {"driver", d->info.driver},
+            {"name", d->info.name},
+            {"address", d->info.address},
+            {"open", d->open},
+            {"connected", st.connected},
+            {"nominal_rate_hz", d->info.nominal_rate_hz},
+            {"measured_rate_hz", d->measured_rate_hz},
+            {"samples", st.samples},
+            {"published", d->published},
+            {"frames_dropped", st.frames_dropped},
+            {"frames_lost", st.frames_lost},
+            {"resyncs", st.resyncs},
+            {"reconnects", st.reconnects},
+            {"bytes", st.bytes},
+            {"last_error", d->open ? st.last_error : d->open_error},
+            {"lookahead_samples", d->pipeline->lookahead_samples()},
+        });
+    }
+    json s = {
+        {"instance", config_.instance},
+        {"pid", getpid()},
+        {"version", FOVEA_VERSION},
+        {"uptime_s", static_cast<double>(now_ns() - started_ns_) / 1e9},
+        {"config", config_path_},
+        {"ring",
+         {{"name", gaze_ring_.name()},
+          {"generation", gaze_ring_.generation()},
+          {"head", gaze_ring_.head()},
+          {"slots", config_.ring_slots},
+          {"readers_attached", readers_attached_}}},
+        {"processing",
+         {{"landing_prediction", readers_attached_ ? "on" : "skipped: no reader attached"}}},
+        {"devices", devices},
+        {"control", {{"requests", control_.requests()}, {"rejected", control_.rejected()}}},
+    };
+    for (const auto& [key, fn] : status_sections_) s[key] = fn();
+    return s;
+}
+
+void Daemon::tick() {
+    // Landing prediction only matters to someone reading the ring (DESIGN.md §5, issue 8).
+    const bool readers = gaze_ring_.readers_attached();
+    if (readers != readers_attached_) {
+        readers_attached_ = readers;
+        for (auto& d : devices_) d->pipeline->set_predict_landing(readers);
+        log()->info("{}", readers ? "a reader attached: landing prediction on"
+                                  : "no reader attached: landing prediction skipped");
+    }
+    static constexpr auto kTick = std::chrono::milliseconds(250);
+    for (auto& d : devices_) {
+        const uint64_t n = d->raw_samples;
+        d->measured_rate_hz = 0.8 * d->measured_rate_hz + 0.2 * static_cast<double>(n - d->rate_mark) * 4.0;
+        d->rate_mark = n;
+    }
+    if (watchdog_usec_) notify("WATCHDOG=1");
+    tick_timer_.expires_after(kTick);
+    tick_timer_.async_wait([this](boost::system::error_code ec) {
+        if (!ec) tick();
+    });
+}
+
+void Daemon::on_signal(int signo) {
+    if (signo == SIGHUP) {
+        reload();
+        signals_.async_wait([this](boost::system::error_code ec, int s) {
+            if (!ec) on_signal(s);
+        });
+        return;
+    }
+    log()->info("{} received: shutting down", signo == SIGINT ? "SIGINT" : "SIGTERM");
+    request_stop();
+}
+
+void Daemon::reload() {
+    if (config_path_.empty()) {
+        log()->info("SIGHUP: no configuration file to reload");
+        return;
+    }
+    notify("RELOADING=1");
+    auto cfg = load_config(config_path_);
+    if (!cfg) {
+        log()->error("SIGHUP: keeping the running configuration: {}", cfg.error().message);
+    } else {
+        spdlog::set_level(spdlog::level::from_str(cfg->log_level));
+        config_.log_level = cfg->log_level;
+        log()->info("SIGHUP: reloaded {} (log level {}); the ring and devices keep running",
+                    config_path_, cfg->log_level);
+    }
+    notify("READY=1");
+}
+
+void Daemon::request_stop() {
+    asio::post(io_, [this] {
+        if (stopping_) return;
+        stopping_ = true;
+        notify("STOPPING=1");
+        io_.stop();
+    });
+}
+
+int Daemon::run() {
+    io_.run();
+    shutdown();
+    return 0;
+}
+
+void Daemon::shutdown() {
+    for (auto& d : devices_) {
+        if (d->retry) d->retry->cancel();
+        if (d->open) {
+            d->driver->close();
+            d->open = false;
+            std::vector<gaze::GazeSample> rest;
+            d->pipeline->flush(rest);
+            if (gaze_ring_.is_open())
+                for (auto& s : rest) publish(*d, s);
+        }
+    }
+    control_.close();
+    gaze_ring_.close();
+    tick_timer_.cancel();
+    if (lock_fd_ >= 0) {
+        // The lock file stays: unlinking it would let two daemons lock two different inodes.
+        ::close(lock_fd_);
+        lock_fd_ = -1;
+    }
+}
+
+}  // namespace fovea::daemon

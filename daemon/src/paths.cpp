@@ -1,0 +1,37 @@
+#include "paths.hpp"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <string>
+
+namespace fovea::daemon {
+namespace {
+
+const char* env(const char* name) {
+    const char* v = std::getenv(name);
+    return v && *v ? v : nullptr;
+}
+
+}  // namespace
+
+std::string runtime_dir() {
+    if (const char* d = env("FOVEA_RUNTIME_DIR")) return d;
+    if (const char* d = env("RUNTIME_DIRECTORY")) {
+        std::string s = d;  // systemd may pass several, colon-separated: the first is ours
+        return s.substr(0, s.find(':'));
+    }
+    if (access("/run/fovea", W_OK) == 0) return "/run/fovea";
+    if (const char* d = env("XDG_RUNTIME_DIR")) return std::string(d) + "/fovea";
+    return "/tmp/fovea-" + std::to_string(getuid());
+}
+
+std::string control_socket_path(const std::string& instance) {
+    return runtime_dir() + "/" + instance + ".sock";
+}
+
+std::string lock_file_path(const std::string& instance) {
+    return runtime_dir() + "/" + instance + ".lock";
+}
+
+}  // namespace fovea::daemon

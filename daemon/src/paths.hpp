@@ -1,0 +1,14 @@
+// Where an instance's control socket and lock live. Shared by fovead and the CLI.
+#pragma once
+
+#include <string>
+
+namespace fovea::daemon {
+
+// $RUNTIME_DIRECTORY (systemd), else /run/fovea if writable or existing, else
+// $XDG_RUNTIME_DIR/fovea, else /tmp/fovea-<uid>. FOVEA_RUNTIME_DIR overrides all of them.
+std::string runtime_dir();
+std::string control_socket_path(const std::string& instance);
+std::string lock_file_path(const std::string& instance);
+
+}  // namespace fovea::daemon

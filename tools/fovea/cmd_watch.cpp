@@ -1,0 +1,53 @@
+// fovea watch: one line per gaze sample from the ring.
+#include <cstdio>
+
+#include "command.hpp"
+#include "gaze_format.hpp"
+#include "ring_session.hpp"
+
+namespace fovea::cli {
+namespace {
+
+struct WatchOptions {
+    uint64_t count = 0;  // 0: until interrupted
+    double wait_s = 5.0;
+    uint32_t every = 1;
+};
+
+void run_watch(const WatchOptions& o) {
+    auto client = open_ring(global_options().instance, static_cast<int>(o.wait_s * 1000));
+    uint64_t cursor = client->head();
+    uint64_t shown = 0, seen = 0, dropped = 0;
+    while (o.count == 0 || shown < o.count) {
+        if (!client->wait(cursor, static_cast<int32_t>(o.wait_s * 1000))) {
+            if (client->head() <= cursor)
+                throw std::runtime_error("no gaze for " + std::to_string(o.wait_s) +
+                                         " s: is the tracker delivering?");
+            continue;
+        }
+        auto batch = client->read(cursor, 256);
+        dropped += batch.dropped;
+        const int64_t now = monotonic_ns();
+        for (const auto& r : batch.records) {
+            if (seen++ % o.every) continue;
+            std::printf("%s\n", watch_line(r, now).c_str());
+            if (o.count && ++shown >= o.count) break;
+        }
+        std::fflush(stdout);
+    }
+    if (dropped) std::fprintf(stderr, "fovea watch: %llu samples overrun (reader too slow)\n",
+                              static_cast<unsigned long long>(dropped));
+}
+
+void setup_watch(CLI::App& app) {
+    static WatchOptions o;
+    app.add_option("--count,-n", o.count, "Stop after N samples (0: run until interrupted)");
+    app.add_option("--every", o.every, "Print every Nth sample")->check(CLI::PositiveNumber);
+    app.add_option("--wait", o.wait_s, "Seconds to wait for the daemon / for data");
+    app.callback([] { run_watch(o); });
+}
+
+const Command kWatch{"watch", "Print live gaze samples, one line each", &setup_watch};
+
+}  // namespace
+}  // namespace fovea::cli
