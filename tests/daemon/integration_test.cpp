@@ -1,0 +1,266 @@
+// fovead and the fovea CLI as a user runs them: real processes, real shm, real Unix sockets.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "control.hpp"
+#include "fovea/client.hpp"
+#include "paths.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr int kSlowdown = 10;
+#else
+constexpr int kSlowdown = 1;
+#endif
+
+const std::string kFovead = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
+const std::string kFovea = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
+
+struct Proc {
+    pid_t pid = -1;
+    std::string out_path, err_path;
+
+    std::string out() const { return slurp(out_path); }
+    std::string err() const { return slurp(err_path); }
+    static std::string slurp(const std::string& p) {
+        std::ifstream in(p);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    }
+    // Exit code, or 128+signal; -1 on timeout (then the process is killed).
+    int wait(std::chrono::milliseconds timeout = 20s) {
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        int status = 0;
+        while (std::chrono::steady_clock::now() < end) {
+            const pid_t r = waitpid(pid, &status, WNOHANG);
+            if (r == pid) {
+                pid = -1;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            }
+            std::this_thread::sleep_for(5ms);
+        }
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        pid = -1;
+        return -1;
+    }
+    ~Proc() {
+        if (pid > 0) {
+            kill(pid, SIGKILL);
+            waitpid(pid, nullptr, 0);
+        }
+    }
+};
+
+struct DaemonTest : ::testing::Test {
+    std::string dir;
+    std::string instance;
+
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        instance = std::string("it") + std::to_string(getpid()) + "-" + info->name();
+        dir = fs::temp_directory_path() / ("fovea-it-" + instance);
+        fs::create_directories(dir);
+        setenv("FOVEA_RUNTIME_DIR", dir.c_str(), 1);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    std::unique_ptr<Proc> spawn(const std::string& exe, std::vector<std::string> args) {
+        auto p = std::make_unique<Proc>();
+        static int n = 0;
+        p->out_path = dir + "/out" + std::to_string(++n);
+        p->err_path = dir + "/err" + std::to_string(n);
+        posix_spawn_file_actions_t fa;
+        posix_spawn_file_actions_init(&fa);
+        posix_spawn_file_actions_addopen(&fa, 1, p->out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&fa, 2, p->err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        args.insert(args.begin(), exe);
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        EXPECT_EQ(posix_spawn(&p->pid, exe.c_str(), &fa, nullptr, argv.data(), environ), 0);
+        posix_spawn_file_actions_destroy(&fa);
+        return p;
+    }
+
+    std::unique_ptr<Proc> start_daemon(std::vector<std::string> extra = {}) {
+        extra.insert(extra.begin(), {"--instance", instance});
+        auto d = spawn(kFovead, extra);
+        // Ready when the control socket answers.
+        const auto end = std::chrono::steady_clock::now() + 5s * kSlowdown;
+        while (std::chrono::steady_clock::now() < end) {
+            if (query("status").ok()) return d;
+            std::this_thread::sleep_for(10ms);
+        }
+        ADD_FAILURE() << "fovead did not come up: " << d->err();
+        return d;
+    }
+
+    fovea::Result<json> query(const std::string& cmd) {
+        return fovea::daemon::control_request(fovea::daemon::control_socket_path(instance),
+                                              {{"cmd", cmd}}, 2000 * kSlowdown);
+    }
+
+    std::unique_ptr<Proc> cli(std::vector<std::string> args) {
+        args.insert(args.begin(), {"--instance", instance});
+        return spawn(kFovea, args);
+    }
+};
+
+int count_lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+TEST_F(DaemonTest, WatchPrintsHundredSamplesWithinTwoSeconds) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto d = spawn(kFovead, {"--instance", instance});
+    auto w = cli({"watch", "--count", "100"});
+    ASSERT_EQ(w->wait(10s * kSlowdown), 0) << w->err() << d->err();
+    const auto elapsed = std::chrono::steady_clock::now() - t0;
+    EXPECT_EQ(count_lines(w->out()), 100);
+    EXPECT_NE(w->out().find("gaze=("), std::string::npos);
+    EXPECT_LT(elapsed, 2s * kSlowdown) << "daemon start to 100 printed samples";
+    std::printf("daemon start -> 100 samples printed: %.0f ms\n",
+                std::chrono::duration<double, std::milli>(elapsed).count());
+}
+
+TEST_F(DaemonTest, StatusReportsDevicesRingAndRates) {
+    auto d = start_daemon();
+    std::this_thread::sleep_for(600ms);
+    auto s = query("status");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    EXPECT_TRUE((*s)["ok"]);
+    EXPECT_EQ((*s)["instance"], instance);
+    ASSERT_EQ((*s)["devices"].size(), 1u);
+    const json& dev = (*s)["devices"][0];
+    EXPECT_EQ(dev["driver"], "sim");
+    EXPECT_GT(dev["samples"].get<uint64_t>(), 100u);
+    EXPECT_GT(dev["measured_rate_hz"].get<double>(), 100.0);
+    EXPECT_GT((*s)["ring"]["head"].get<uint64_t>(), 100u);
+    EXPECT_GT((*s)["uptime_s"].get<double>(), 0.5);
+    EXPECT_EQ((*s)["processing"]["landing_prediction"], "skipped: no reader attached");
+    {
+        fovea::Client c(instance);
+        std::this_thread::sleep_for(600ms);
+        EXPECT_EQ(query("status").value()["processing"]["landing_prediction"], "on");
+    }
+    auto status_cli = cli({"status"});
+    ASSERT_EQ(status_cli->wait(), 0) << status_cli->err();
+    EXPECT_TRUE(json::parse(status_cli->out())["devices"].is_array());
+}
+
+TEST_F(DaemonTest, BadConfigIsOneClearLineAndNonZero) {
+    const std::string cfg = dir + "/bad.toml";
+    std::ofstream(cfg) << "[display]\nwidth_px = \"wide\"\n";
+    auto d = spawn(kFovead, {"--instance", instance, "--config", cfg});
+    EXPECT_EQ(d->wait(), 2);
+    EXPECT_EQ(count_lines(d->err()), 1) << d->err();
+    EXPECT_NE(d->err().find("display.width_px"), std::string::npos) << d->err();
+
+    auto u = spawn(kFovead, {"--instance", instance, "--frobnicate"});
+    EXPECT_EQ(u->wait(), 2);
+    EXPECT_EQ(count_lines(u->err()), 1) << u->err();
+    EXPECT_NE(u->err().find("--frobnicate"), std::string::npos) << u->err();
+
+    std::ofstream(cfg) << "[[device]]\ndriver = \"warp-drive\"\n";
+    auto w = spawn(kFovead, {"--instance", instance, "--config", cfg});
+    EXPECT_EQ(w->wait(), 2);
+    EXPECT_NE(w->err().find("unknown driver 'warp-drive'"), std::string::npos) << w->err();
+}
+
+TEST_F(DaemonTest, SecondDaemonOnSameInstanceRefusesToStart) {
+    auto d = start_daemon();
+    auto second = spawn(kFovead, {"--instance", instance});
+    EXPECT_EQ(second->wait(), 2);
+    EXPECT_NE(second->err().find("already running"), std::string::npos) << second->err();
+    EXPECT_TRUE(query("status").ok());  // the first is unaffected
+}
+
+TEST_F(DaemonTest, SigtermShutsDownCleanly) {
+    auto d = start_daemon();
+    kill(d->pid, SIGTERM);
+    EXPECT_EQ(d->wait(), 0) << d->err();
+    EXPECT_FALSE(fs::exists(fovea::daemon::control_socket_path(instance)));
+    fovea_client* c = nullptr;
+    EXPECT_EQ(fovea_client_open(instance.c_str(), FOVEA_STREAM_GAZE, &c), FOVEA_E_NOT_FOUND);
+}
+
+TEST_F(DaemonTest, ShutdownCommandStopsTheDaemon) {
+    auto d = start_daemon();
+    auto r = query("shutdown");
+    ASSERT_TRUE(r.ok());
+    EXPECT_TRUE((*r)["ok"]);
+    EXPECT_EQ(d->wait(), 0);
+}
+
+TEST_F(DaemonTest, OversizedAndMalformedRequestsLeaveTheDaemonUnaffected) {
+    auto d = start_daemon();
+    const std::string path = fovea::daemon::control_socket_path(instance);
+    auto send_raw = [&](const std::string& bytes) {
+        int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strncpy(a.sun_path, path.c_str(), sizeof a.sun_path - 1);
+        EXPECT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+        [[maybe_unused]] auto n = send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+        std::string reply;
+        char buf[512];
+        ssize_t k;
+        while ((k = recv(fd, buf, sizeof buf, 0)) > 0) reply.append(buf, static_cast<size_t>(k));
+        close(fd);  // recv returned 0: the daemon closed the connection
+        return reply;
+    };
+    EXPECT_NE(send_raw(std::string(100'000, 'x')).find("request too large"), std::string::npos);
+    EXPECT_NE(send_raw("{not json\n").find("malformed request"), std::string::npos);
+    auto s = query("status");
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ((*s)["control"]["rejected"].get<int>(), 2);
+}
+
+TEST_F(DaemonTest, RecordWritesEverySampleAsCsv) {
+    auto d = start_daemon();
+    const std::string out = dir + "/rec.csv";
+    auto r = cli({"record", "--out", out, "--duration", "1"});
+    ASSERT_EQ(r->wait(10s * kSlowdown), 0) << r->err();
+    std::ifstream in(out);
+    std::string first, header, line;
+    std::getline(in, first);
+    std::getline(in, header);
+    EXPECT_EQ(first.rfind("# fovea gaze recording v1", 0), 0u);
+    EXPECT_EQ(header.rfind("index,t_capture_ns,", 0), 0u);
+    uint64_t prev = 0, rows = 0;
+    while (std::getline(in, line)) {
+        const uint64_t idx = std::stoull(line.substr(0, line.find(',')));
+        if (rows++) EXPECT_EQ(idx, prev + 1) << "a sample is missing";
+        prev = idx;
+    }
+    EXPECT_GT(rows, 500u);  // the simulated tracker runs at 1 kHz by default
+}
+
+}  // namespace
