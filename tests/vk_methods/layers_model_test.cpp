@@ -1,0 +1,158 @@
+#include "layers_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace fovea::vk::methods {
+namespace {
+
+constexpr double kOmega0 = 1.0 / 48.0;
+constexpr double kSlopeA = 0.0275;
+constexpr double kSlopeB = 0.022;
+
+double speedup(const LayerDisplay& d, int n, double m, bool half = false,
+               std::optional<double> s2 = std::nullopt) {
+    LayerOptions o;
+    o.layer_count = n;
+    o.slope = m;
+    o.half_rate_outer = half;
+    o.fixed_s2 = s2;
+    auto plan = optimise_layers(d, o);
+    EXPECT_TRUE(plan.ok()) << (plan.ok() ? "" : plan.error().message);
+    return plan.ok() ? plan->speedup() : 0.0;
+}
+
+TEST(GuenterLayers, DesktopDisplayMatchesPaperAngles) {
+    const LayerDisplay d;  // V* = 59 cm, W* = 51 cm, D* = 1920, α* = 9/16
+    EXPECT_NEAR(display_radius_deg(d), 23.4, 0.05);
+    EXPECT_NEAR(sharpness_deg(d), 0.0516, 0.00005);
+    EXPECT_NEAR(kOmega0 / sharpness_deg(d), 0.40, 0.01);  // "only 40 % of foveal acuity"
+}
+
+TEST(GuenterLayers, Eq9ResolutionGivesSharpnessEqualToFovealAcuity) {
+    for (double fov : {20.0, 70.0, 120.0}) {
+        const LayerDisplay d = acuity_matched_display(fov, 0.75, kOmega0);
+        EXPECT_NEAR(sharpness_deg(d), kOmega0, kOmega0 * 1e-3) << fov;
+        EXPECT_NEAR(2.0 * display_radius_deg(d), fov, 1e-9) << fov;
+    }
+}
+
+TEST(GuenterLayers, PlanIsConservativeAgainstTheMarLine) {
+    const LayerDisplay d;
+    LayerOptions o;
+    o.slope = kSlopeB;
+    for (int n = 2; n <= 4; ++n) {
+        o.layer_count = n;
+        const LayerPlan p = *optimise_layers(d, o);
+        ASSERT_EQ(p.layers.size(), std::size_t(n));
+        EXPECT_DOUBLE_EQ(p.layers[0].sampling_factor, 1.0);
+        for (int i = 1; i < n; ++i) {
+            const Layer& prev = p.layers[std::size_t(i - 1)];
+            const Layer& cur = p.layers[std::size_t(i)];
+            EXPECT_LT(prev.radius_deg, cur.radius_deg);
+            // Layer i is sampled no coarser than the MAR at the inner edge of its visible ring:
+            // its resolvable angle (2 pixels = s·ω*) never exceeds m·e_{i-1} + ω0 (Fig. 7).
+            EXPECT_LE(cur.sampling_factor * sharpness_deg(d),
+                      std::max(sharpness_deg(d), kSlopeB * prev.radius_deg + kOmega0) + 1e-12);
+        }
+        EXPECT_NEAR(p.layers.back().radius_deg, display_radius_deg(d), 1e-12);
+    }
+}
+
+TEST(GuenterLayers, BruteForceFindsTheGridMinimum) {
+    // Exhaustive check for n = 3 on a coarse grid: no radius pair beats the optimiser's.
+    const LayerDisplay d;
+    LayerOptions o;
+    o.slope = kSlopeA;
+    o.steps = 60;
+    const LayerPlan best = *optimise_layers(d, o);
+    const double e_star = display_radius_deg(d);
+    for (int i = 1; i < 60; ++i)
+        for (int j = i + 1; j < 60; ++j) {
+            const LayerPlan p = evaluate_layers(d, o, {e_star * i / 60, e_star * j / 60});
+            EXPECT_GE(p.work, best.work * (1.0 - 1e-12));
+        }
+}
+
+TEST(GuenterLayers, MeasuredPixelSpeedupsOfSection6AreReproducedWithin5Percent) {
+    // §6: three layers, s_2 = 2 (supplement), outer layers at half rate: 13.3 (A), 9.8 (B).
+    const LayerDisplay d;
+    EXPECT_NEAR(speedup(d, 3, kSlopeA, true, 2.0), 13.3, 13.3 * 0.05);
+    EXPECT_NEAR(speedup(d, 3, kSlopeB, true, 2.0), 9.8, 9.8 * 0.05);
+}
+
+TEST(GuenterLayers, QualityBOnTheStudyDisplayShadesAtMostAnEighthAtHalfRate) {
+    const LayerDisplay d;
+    LayerOptions o;
+    o.slope = kSlopeB;
+    o.half_rate_outer = true;
+    EXPECT_LE(optimise_layers(d, o)->shaded_fraction(), 1.0 / 8.0);
+    o.half_rate_outer = false;  // every layer every frame: about 1/6.4
+    EXPECT_GT(optimise_layers(d, o)->shaded_fraction(), 1.0 / 8.0);
+}
+
+TEST(GuenterLayers, Figure12AbstractClaimHundredfoldAt70Degrees) {
+    // Abstract: "100 times speedup at a field of view of 70° and resolution matching foveal
+    // acuity" — the n = 4 curve at slope A.
+    const LayerDisplay d = acuity_matched_display(70.0, 0.75, kOmega0);
+    EXPECT_NEAR(speedup(d, 4, kSlopeA), 100.0, 10.0);
+}
+
+TEST(GuenterLayers, Figure12TrendsHold) {
+    for (double m : {kSlopeA, kSlopeB}) {
+        double prev4 = 0.0;
+        for (double fov = 10.0; fov <= 120.0; fov += 10.0) {
+            const LayerDisplay d = acuity_matched_display(fov, 0.75, kOmega0);
+            const double s2 = speedup(d, 2, m);
+            const double s3 = speedup(d, 3, m);
+            const double s4 = speedup(d, 4, m);
+            const double s3star = speedup(d, 3, m, false, 2.0);
+            EXPECT_LT(s2, s3) << fov;  // more layers always help
+            EXPECT_LT(s3, s4) << fov;
+            EXPECT_LE(s3star, s3 * (1.0 + 1e-9)) << fov;  // the s_2 = 2 restriction costs
+            EXPECT_GT(s4, prev4) << fov;                  // speed-up grows with field of view
+            prev4 = s4;
+        }
+    }
+    // A steeper slope (quality A) saves more than B.
+    const LayerDisplay d = acuity_matched_display(60.0, 0.75, kOmega0);
+    EXPECT_GT(speedup(d, 3, kSlopeA), speedup(d, 3, kSlopeB));
+}
+
+TEST(GuenterLayers, Figure13FoveatedCostGrowsRoughlyLinearlyUpTo90Degrees) {
+    // Non-foveated cost grows like tan²(e*); foveated (n = 4) roughly linearly with FOV.
+    auto work = [](double fov) {
+        const LayerDisplay d = acuity_matched_display(fov, 0.75, kOmega0);
+        LayerOptions o;
+        o.layer_count = 4;
+        o.slope = kSlopeB;
+        return optimise_layers(d, o)->work;
+    };
+    const double w30 = work(30.0);
+    const double w60 = work(60.0);
+    const double w90 = work(90.0);
+    EXPECT_NEAR((w90 - w60) / (w60 - w30), 1.0, 0.35);  // equal increments: linear
+    const double full30 = acuity_matched_display(30.0, 0.75, kOmega0).resolution_px;
+    const double full90 = acuity_matched_display(90.0, 0.75, kOmega0).resolution_px;
+    EXPECT_GT((full90 * full90) / (full30 * full30), 3.0 * w90 / w30);
+}
+
+TEST(GuenterLayers, RejectsBadInput) {
+    LayerDisplay d;
+    LayerOptions o;
+    o.layer_count = 5;
+    EXPECT_FALSE(optimise_layers(d, o).ok());
+    o.layer_count = 3;
+    o.slope = 0.0;
+    EXPECT_FALSE(optimise_layers(d, o).ok());
+    o.slope = kSlopeB;
+    d.aspect = 1.5;
+    EXPECT_FALSE(optimise_layers(d, o).ok());
+    d.aspect = 0.5625;
+    o.fixed_s2 = 1000.0;  // e_1 beyond the display
+    EXPECT_FALSE(optimise_layers(d, o).ok());
+}
+
+}  // namespace
+}  // namespace fovea::vk::methods
