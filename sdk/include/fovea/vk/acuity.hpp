@@ -1,0 +1,106 @@
+// The acuity and eccentricity model on the CPU. The maths is shaders/fovea_acuity.glsl compiled
+// as C++ (sdk/src/vk/acuity.cpp), so these functions agree with the GPU texel by texel.
+// All functions are pure and thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fovea/ring.h"
+
+namespace fovea::vk {
+
+// One eye's display. Flat screens: from_size(); HMD eyes: from_fov().
+struct EyeDisplay {
+    uint32_t width_px = 1920;
+    uint32_t height_px = 1080;
+    float fov_h_deg = 47.8f;  // 24" 16:9 (0.531 m wide) at 0.60 m, like gaze::DisplayGeometry
+    float fov_v_deg = 28.0f;
+
+    static EyeDisplay from_size(uint32_t width_px, uint32_t height_px, double width_m,
+                                double height_m, double distance_m);
+    static EyeDisplay from_fov(uint32_t width_px, uint32_t height_px, double fov_h_deg,
+                               double fov_v_deg);
+    // Presets the demo and bench use: a 24" 1920x1080 monitor at 60 cm, and one eye of an HMD
+    // with 1440x1600 per eye and a 98 x 104 degree field of view.
+    static EyeDisplay desktop_1080p();
+    static EyeDisplay hmd_eye();
+
+    float pixels_per_degree() const;  // at the display centre
+};
+
+// Guenter's MAR line and Patney's piecewise-linear rate (shaders/fovea_acuity.glsl).
+struct AcuityParams {
+    float mar_slope = 0.022f;          // m: Guenter's quality-B slope; 0.034 is more aggressive
+    float mar_omega0 = 1.0f / 48.0f;   // w0, degrees
+    float foveal_radius_deg = 5.0f;    // full rate inside (Patney: 7.5 desktop, 15 HMD; 5 is
+                                       // aggressive-but-acceptable per his §4.4 note)
+    float transition_deg = 5.0f;       // linear ramp to the MAR-limited rate
+    float max_rate = 4.0f;             // coarsest coarse-pixel edge: 1, 2 or 4
+    uint32_t tile_size = 16;           // pixels per rate-tile edge (multiple of max_rate)
+    float uncertainty_sigmas = 2.0f;   // fovea widened by this many gaze 1-sigma
+    float drift_dps = 1.0f;            // and by sample age times this (fixational eye motion)
+    float max_margin_deg = 10.0f;      // cap on the widening
+};
+
+// The gaze a frame is rendered for: one eye (or the combined gaze) in normalized display
+// coordinates (0..1, origin top-left; off-screen values are fine, NaN falls back to the centre).
+struct GazeState {
+    float x = 0.5f;
+    float y = 0.5f;
+    float uncertainty_deg = 0.0f;  // 1-sigma of the estimate
+    float age_s = 0.0f;            // capture -> display time (latency plus frame time)
+    bool in_saccade = false;
+    bool landing_valid = false;    // saccade landing prediction, used as centre in a saccade
+    float landing_x = 0.5f, landing_y = 0.5f;
+    float landing_uncertainty_deg = 0.0f;
+
+    enum class Eye { kLeft, kRight, kCombined };
+    // From a ring record; display_time_ns is the CLOCK_MONOTONIC time the frame will be seen.
+    static GazeState from_record(const fovea_gaze_record& record, int64_t display_time_ns,
+                                 Eye eye = Eye::kCombined);
+};
+
+// The centre and widening the shaders use.
+struct ResolvedGaze {
+    float x_px = 0.0f, y_px = 0.0f;  // rate centre in pixels (may lie off screen)
+    float margin_deg = 0.0f;         // eccentricity subtracted before the rate model
+    bool fell_back = false;          // the gaze was NaN/inf: centre of the screen used
+    bool used_landing = false;       // in a saccade with a landing prediction
+};
+
+// Resolves the gaze for a frame. Non-finite coordinates fall back to the screen centre and set
+// fell_back (the Foveator logs a warning). Off-screen gaze is clamped to 4 screen sizes away.
+ResolvedGaze resolve_gaze(const GazeState& gaze, const EyeDisplay& display,
+                          const AcuityParams& acuity);
+
+float eccentricity_deg(const EyeDisplay& display, float px, float py, float gaze_px,
+                       float gaze_py);
+float pixel_size_deg(const EyeDisplay& display, float px, float py);
+float mar_deg(const AcuityParams& acuity, float eccentricity_deg);
+// Continuous rate (coarse pixel edge, >= 1) at a pixel; quantized rate of a tile.
+float rate_at(const EyeDisplay& display, const AcuityParams& acuity, const ResolvedGaze& gaze,
+              float px, float py);
+float tile_rate(const EyeDisplay& display, const AcuityParams& acuity, const ResolvedGaze& gaze,
+                uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1);
+float normalized_rate(float rate);  // S_t: 0, 0.5, 1
+
+// Rate per tile (values 1, 2, 4), row-major, ceil(width/tile) x ceil(height/tile): what the
+// coarse-pixel-shading classification pass writes.
+std::vector<uint8_t> cpu_rate_tiles(const EyeDisplay& display, const AcuityParams& acuity,
+                                    const ResolvedGaze& gaze, uint32_t tile_w, uint32_t tile_h);
+// The VK_KHR_fragment_shading_rate attachment texels: (log2 w << 2) | log2 h.
+std::vector<uint8_t> cpu_vrs_texels(const EyeDisplay& display, const AcuityParams& acuity,
+                                    const ResolvedGaze& gaze, uint32_t texel_w, uint32_t texel_h);
+
+// Halton(2,3) sub-pixel jitter in pixels, in [-0.5, 0.5), for frame `index` of a sequence of
+// `length` (0 = no jitter). Hosts add it to their projection; TAA reads it from the frame.
+void halton_jitter(uint64_t index, uint32_t length, float& jx, float& jy);
+
+// Eccentricity bands used by every metric: 0-5, 5-10, 10-20, 20-30, >30 degrees.
+inline constexpr int kBandCount = 5;
+inline constexpr float kBandEdgesDeg[kBandCount + 1] = {0.f, 5.f, 10.f, 20.f, 30.f, 1e9f};
+const char* band_name(int band);
+
+}  // namespace fovea::vk

@@ -1,0 +1,15 @@
+// The one list of foveation methods: add one line per method. Each factory is defined in its own
+// sdk/src/vk/methods/<name>.cpp (the block-scope declaration keeps the entry to a single line).
+#include "../method.hpp"
+
+namespace fovea::vk {
+
+std::span<const MethodEntry> method_registry() {
+    static const MethodEntry kMethods[] = {
+        {"full", [] { std::unique_ptr<Method> make_full_method(); return make_full_method(); }},
+        {"cps", [] { std::unique_ptr<Method> make_cps_method(); return make_cps_method(); }},
+    };
+    return kMethods;
+}
+
+}  // namespace fovea::vk

@@ -1,0 +1,14 @@
+// The one list of post passes (run after shading, in FoveatorConfig::post_chain order): add one
+// line per pass; each factory is defined in its own sdk/src/vk/<name>*.cpp.
+#include "post_pass.hpp"
+
+namespace fovea::vk {
+
+std::span<const PostPassEntry> post_pass_registry() {
+    static const PostPassEntry kPasses[] = {
+        {"copy", [] { std::unique_ptr<PostPass> make_copy_pass(); return make_copy_pass(); }},
+    };
+    return kPasses;
+}
+
+}  // namespace fovea::vk

@@ -1,0 +1,91 @@
+// The frame descriptor set (set 0) every shading pipeline sees, the G-buffer sample and the
+// shading footprint handed to the host's shading function. Mirrors sdk/src/vk/frame_uniforms.hpp
+// (std140) and the G-buffer contract in sdk/include/fovea/vk/gbuffer.hpp.
+#ifndef FOVEA_FRAME_GLSL
+#define FOVEA_FRAME_GLSL
+
+#include "fovea_acuity.glsl"
+
+layout(std140, set = 0, binding = 0) uniform FoveaFrameUniforms {
+    vec2 extent;          // output size in pixels
+    vec2 inv_extent;
+    vec2 gaze_px;         // resolved gaze centre (landing point during saccades), pixels
+    vec2 jitter_px;       // this frame's sub-pixel jitter the host applied to its projection
+    FoveaDisplay display;
+    FoveaAcuity acuity;
+    vec4 camera_pos;      // xyz world eye position, w = radians per pixel at the view centre
+    vec4 time;            // x seconds, y frame index, z method id (host free), w reserved
+    vec4 host[16];        // host-defined parameters (Foveator::set_host_params)
+} fovea_frame;
+
+// G-buffer (read by the module, written by the host), all VK_IMAGE_LAYOUT_GENERAL.
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D fovea_g_position;  // xyz world, w view distance (0 = background)
+layout(set = 0, binding = 2, rgba16f) uniform readonly image2D fovea_g_normal;    // xyz unit world normal, w host
+layout(set = 0, binding = 3, rgba8) uniform readonly image2D fovea_g_albedo;      // rgb linear albedo, a host
+layout(set = 0, binding = 4, rgba16f) uniform readonly image2D fovea_g_material;  // x material id (integer), yzw host
+layout(set = 0, binding = 5, r32f) uniform readonly image2D fovea_g_depth;        // 0..1, 1 = far/background
+layout(set = 0, binding = 6, rg16f) uniform readonly image2D fovea_g_motion;      // pixels, current - previous
+
+// Outputs of the shading stage.
+layout(set = 0, binding = 7, rgba16f) uniform writeonly image2D fovea_out_color;  // linear HDR rgb, a = 1
+layout(set = 0, binding = 8, r16f) uniform writeonly image2D fovea_out_rate;      // S_t (0 fovea .. 1 coarsest)
+
+// Counters read back after each frame (sdk/src/vk/frame_uniforms.hpp FrameStats).
+layout(std430, set = 0, binding = 9) buffer FoveaStats {
+    uint shaded_samples;  // every method adds the samples it shaded
+    uint edge_samples;    // of which: extra samples at coarse-pixel discontinuities
+    uint tiles[4];        // tiles per rate class (1x1, 2x2, 4x4, skipped)
+    uint reserved[10];
+} fovea_stats;
+
+struct FoveaGSample {
+    vec3 position;   // world
+    float distance;  // view distance, 0 = background (no geometry)
+    vec3 normal;
+    float normal_w;
+    vec3 albedo;
+    float albedo_a;
+    vec4 material;   // x = material id
+    float depth;
+    vec2 motion;
+    bool background;
+};
+
+// What the shade stands for: the host pre-filters over size_px full-resolution pixels.
+struct FoveaFootprint {
+    vec2 pixel;             // centre of the shaded region, full-resolution pixel coordinates
+    float size_px;          // edge of the region in pixels (1, 2, 4, ...)
+    float world_size;       // approximate world-space edge of the region at the sample
+    float eccentricity_deg; // from the gaze
+    float rate_s;           // normalized shading rate S_t of the region
+};
+
+FoveaGSample fovea_load_gsample(ivec2 p) {
+    FoveaGSample g;
+    vec4 pos = imageLoad(fovea_g_position, p);
+    vec4 nrm = imageLoad(fovea_g_normal, p);
+    vec4 alb = imageLoad(fovea_g_albedo, p);
+    g.position = pos.xyz;
+    g.distance = pos.w;
+    g.normal = nrm.xyz;
+    g.normal_w = nrm.w;
+    g.albedo = alb.rgb;
+    g.albedo_a = alb.a;
+    g.material = imageLoad(fovea_g_material, p);
+    g.depth = imageLoad(fovea_g_depth, p).x;
+    g.motion = imageLoad(fovea_g_motion, p).xy;
+    g.background = !(pos.w > 0.0);
+    return g;
+}
+
+FoveaFootprint fovea_make_footprint(vec2 centre_px, float size_px, float distance, float rate_s) {
+    FoveaFootprint f;
+    f.pixel = centre_px;
+    f.size_px = size_px;
+    f.world_size = size_px * fovea_frame.camera_pos.w * max(distance, 0.0);
+    f.eccentricity_deg = fovea_eccentricity_deg(fovea_frame.display, centre_px, fovea_frame.gaze_px);
+    f.rate_s = rate_s;
+    return f;
+}
+
+#endif
