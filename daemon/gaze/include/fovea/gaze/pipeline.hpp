@@ -5,15 +5,44 @@
 #include <memory>
 #include <vector>
 
+#include "fovea/gaze/calibration.hpp"
+#include "fovea/gaze/clock_sync.hpp"
+#include "fovea/gaze/event_detector.hpp"
+#include "fovea/gaze/kalman.hpp"
+#include "fovea/gaze/landing.hpp"
+#include "fovea/gaze/one_euro.hpp"
 #include "fovea/gaze/sample.hpp"
 
 namespace fovea::gaze {
+
+enum class FilterKind { kNone, kOneEuro, kKalman };
 
 struct PipelineConfig {
     DeviceClock clock;
     DisplayGeometry display;
     double nominal_rate_hz = 1000.0;
     bool predict_landing = true;  // the daemon turns this off while no reader is attached
+    // Published positions are filtered (in degrees); event detection sees the unfiltered,
+    // calibrated signal so the filter's lag never shifts saccade onsets.
+    FilterKind filter = FilterKind::kOneEuro;
+    OneEuroParams one_euro{0.5, 0.02, 1.0, 1000.0, 0.5};  // deg units; see README.md
+    KalmanParams kalman{};
+    ClockSyncParams clock_sync{};
+    DetectorParams detector{};
+    DetectorMode detector_mode = DetectorMode::kOnline;
+    // Offline mode only: fixed velocity thresholds (EventDetector::estimate_thresholds).
+    VelocityThresholds offline_thresholds{};
+    LandingParams landing{};
+};
+
+// Counters for status/diagnostics.
+struct PipelineStats {
+    uint64_t samples_in = 0;
+    uint64_t samples_out = 0;
+    uint64_t eyes_invalid = 0;     // per-eye samples that were invalid or non-finite
+    uint64_t clock_fallbacks = 0;  // samples mapped by receive time (inconsistent clock)
+    uint64_t clock_resets = 0;
+    uint64_t predictions = 0;
 };
 
 class Pipeline {
@@ -32,6 +61,11 @@ public:
     void set_predict_landing(bool on);
     // Look-ahead delay of online detection, in samples (bounded, reported in status).
     int lookahead_samples() const;
+
+    // Replace the calibration applied to raw samples (loop thread; copy built elsewhere).
+    void set_calibration(const Calibration& calibration);
+    void clear_calibration();
+    PipelineStats stats() const;
 
 private:
     struct Impl;

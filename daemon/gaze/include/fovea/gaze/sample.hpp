@@ -58,7 +58,7 @@ struct SaccadeInfo {
 
 // One processed sample: what fovead publishes into the ring and the recorder logs.
 struct GazeSample {
-    int64_t t_capture_ns = 0;    // device time mapped to host CLOCK_MONOTONIC
+    int64_t t_capture_ns = 0;  // device time mapped to host CLOCK_MONOTONIC
     int64_t t_receive_ns = 0;
     int64_t t_processed_ns = 0;
     double clock_uncertainty_us = 0.0;
@@ -79,7 +79,7 @@ struct GazeSample {
 struct DisplayGeometry {
     int width_px = 1920;
     int height_px = 1080;
-    double width_m = 0.531;   // 24" 16:9 monitor
+    double width_m = 0.531;  // 24" 16:9 monitor
     double height_m = 0.299;
     double distance_m = 0.60;
 

@@ -1,0 +1,167 @@
+// Per-sample eye-movement events: fixation, saccade, post-saccadic oscillation (PSO), smooth
+// pursuit, blink. One streaming algorithm serves both modes so online == offline up to the
+// thresholds' history:
+//   1. velocity: least-squares slope over a short centred window (a Savitzky-Golay derivative);
+//   2. saccades: Nyström & Holmqvist (2010) adaptive peak/onset thresholds (mean + 6/3 SD of the
+//      sub-threshold velocities), onset/offset at the local velocity minimum, PSO = renewed
+//      velocity above the onset threshold within 40 ms of the offset;
+//   3. the rest (intersaccadic samples) is fixation or pursuit by the eye's speed measured over a
+//      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
+//      fixational drift and tracker noise average out (this is what the published detectors
+//      lack, see daemon/gaze/README.md);
+//   4. blinks from lost samples, extended over the lid's artefacts at both edges.
+// Online mode holds samples back for a bounded look-ahead and estimates thresholds from the past;
+// offline mode takes thresholds from the whole recording (estimate_thresholds) and no bound.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <vector>
+
+#include "fovea/gaze/sample.hpp"
+
+namespace fovea::gaze {
+
+// One parameter set for every recording; the reasoning for each value is in README.md.
+struct DetectorParams {
+    double velocity_half_window_s = 0.006;  // SG derivative over +-6 ms
+    double initial_peak_dps = 100.0;        // N&H starting peak threshold
+    double peak_sd = 6.0;
+    double onset_sd = 3.0;
+    double min_peak_dps = 30.0;  // floors for very quiet trackers
+    double min_onset_dps = 15.0;
+    double min_saccade_s = 0.010;
+    double max_saccade_s = 0.150;
+    double pso_window_s = 0.040;
+    double smooth_half_window_s = 0.060;  // pursuit speed window, +-60 ms within a segment
+    double pursuit_dps = 2.5;             // enter pursuit above, leave below 0.7x
+    double min_blink_s = 0.016;           // shorter tracking losses are dropouts, not blinks
+    double blink_pre_s = 0.030;           // lid artefacts before / after the lost samples
+    double blink_post_s = 0.060;
+    double lookahead_s = 0.100;         // online: bounded delay before a sample is final
+    double threshold_horizon_s = 30.0;  // online: memory of the threshold statistics
+};
+
+enum class DetectorMode { kOnline, kOffline };
+
+struct DetectorInput {
+    double t_s = 0.0;     // monotonic seconds
+    double x_deg = kNaN;  // gaze, degrees of visual angle
+    double y_deg = kNaN;
+    bool valid = false;
+};
+
+struct DetectorOutput {
+    int64_t index = 0;  // 0-based count of pushed samples
+    Event event = Event::kUnknown;
+    SaccadeInfo saccade;  // for saccade and PSO samples: the saccade they belong to
+};
+
+struct VelocityThresholds {
+    double peak_dps = 100.0;
+    double onset_dps = 50.0;
+};
+
+// Not thread-safe; one owner thread.
+class EventDetector {
+public:
+    EventDetector(const DetectorParams& params, double nominal_rate_hz, DetectorMode mode);
+
+    // Fixed thresholds (offline mode). Online mode adapts from its starting values.
+    void set_thresholds(const VelocityThresholds& t);
+    VelocityThresholds thresholds() const { return {peak_, onset_}; }
+
+    void push(const DetectorInput& in);
+    // Next finished sample, in order; false when none is ready.
+    bool pop(DetectorOutput& out);
+    // End of input: finish every held sample (then pop() drains them).
+    void flush();
+
+    int lookahead_samples() const { return lookahead_; }
+    // A saccade in flight at the newest processed sample (for landing prediction).
+    bool saccade_in_flight() const { return state_ == State::kSaccade; }
+    int64_t saccade_onset_index() const { return sacc_onset_; }
+    int64_t saccade_id() const { return sacc_id_; }
+
+    // N&H's iteration over a whole recording's velocities (offline mode).
+    static VelocityThresholds estimate_thresholds(std::span<const DetectorInput> samples,
+                                                  const DetectorParams& params,
+                                                  double nominal_rate_hz);
+    // Convenience: label a whole recording offline (thresholds from the recording itself).
+    static std::vector<DetectorOutput> detect_offline(std::span<const DetectorInput> samples,
+                                                      const DetectorParams& params,
+                                                      double nominal_rate_hz);
+    // Velocity (deg/s) per sample, NaN where the window touches a blink; exposed for tests/tools.
+    static std::vector<double> velocities(std::span<const DetectorInput> samples,
+                                          const DetectorParams& params, double nominal_rate_hz);
+
+private:
+    enum class Label : uint8_t { kPending, kInter, kFixation, kPursuit, kSaccade, kPso, kBlink };
+    enum class State : uint8_t { kIdle, kSaccade, kPostSaccade, kPso };
+    struct Entry {
+        double t, x, y;
+        double v = kNaN;
+        bool valid = false;  // measured (not a held dropout value)
+        bool lost = false;   // part of a loss long enough to be a blink
+        Label label = Label::kPending;
+        int64_t sacc = -1;  // saccade record id
+    };
+    struct Record {
+        int64_t id;
+        int64_t onset, offset;
+        SaccadeInfo info;
+    };
+
+    Entry& at(int64_t i) { return buf_[static_cast<size_t>(i - base_)]; }
+    const Entry& at(int64_t i) const { return buf_[static_cast<size_t>(i - base_)]; }
+    void compute_velocity(int64_t c);
+    void stage_saccades(int64_t c);
+    void stage_smooth(int64_t d, int64_t newest_labelled);
+    void start_saccade(int64_t c);
+    void end_saccade(int64_t last);
+    void finish_record(int64_t id, int64_t last);
+    void mark_blink_back(int64_t c);
+    void update_stats(double v, double dt);
+    Record* record(int64_t id);
+    void advance(bool flushing);
+    bool is_inter(Label l) const {
+        return l == Label::kInter || l == Label::kFixation || l == Label::kPursuit;
+    }
+
+    DetectorParams p_;
+    DetectorMode mode_;
+    double rate_;
+    int k_;          // velocity half window, samples
+    int w_;          // smoothing half window, samples
+    int lookahead_;  // samples
+    int history_;    // samples kept behind the emission point
+    double peak_, onset_;
+    // Online threshold statistics (exponentially weighted, warm-started with a prior).
+    double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.5;
+
+    std::deque<Entry> buf_;
+    int64_t base_ = 0;      // absolute index of buf_.front()
+    int64_t n_ = 0;         // samples pushed
+    int64_t vel_next_ = 0;  // next sample whose velocity is due
+    int64_t s2_next_ = 0;   // next sample for the saccade stage
+    int64_t s3_next_ = 0;   // next sample for the fixation/pursuit stage
+    int64_t emit_next_ = 0;
+    bool flushing_ = false;
+
+    double last_valid_x_ = kNaN, last_valid_y_ = kNaN;
+    int64_t loss_start_ = -1;  // first index of the current tracking loss
+    double last_lost_t_ = -1e300;
+
+    State state_ = State::kIdle;
+    int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
+    double sacc_peak_ = 0.0;
+    bool sacc_blink_ = false;  // a lid artefact next to a loss: labelled blink
+    int64_t post_start_ = -1;
+    double post_t0_ = 0.0;
+    double pso_peak_ = 0.0;
+    std::deque<Record> records_;
+    std::vector<double>* velocity_sink_ = nullptr;  // velocities(): collects every value
+};
+
+}  // namespace fovea::gaze

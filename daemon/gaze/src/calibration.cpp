@@ -1,0 +1,323 @@
+#include "fovea/gaze/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <utility>
+
+namespace fovea::gaze {
+
+namespace {
+
+constexpr int kN = Calibration::kTerms;
+
+void terms(double x, double y, double out[kN]) {
+    out[0] = 1.0;
+    out[1] = x;
+    out[2] = y;
+    out[3] = x * y;
+    out[4] = x * x;
+    out[5] = y * y;
+}
+
+double eval(const Calibration::Coefficients& c, const double norm[3], double x, double y) {
+    double t[kN];
+    terms((x - norm[0]) * norm[2], (y - norm[1]) * norm[2], t);
+    double s = 0.0;
+    for (int i = 0; i < kN; ++i) s += c[static_cast<size_t>(i)] * t[i];
+    return s;
+}
+
+// Solve the normal equations with partial pivoting; false when (near) singular.
+bool solve(double a[kN][kN], double b[2][kN], Calibration::Coefficients& cx,
+           Calibration::Coefficients& cy) {
+    double m[kN][kN + 2];
+    double scale = 0.0;
+    for (int i = 0; i < kN; ++i) {
+        for (int j = 0; j < kN; ++j) {
+            m[i][j] = a[i][j];
+            scale = std::max(scale, std::fabs(a[i][j]));
+        }
+        m[i][kN] = b[0][i];
+        m[i][kN + 1] = b[1][i];
+    }
+    for (int col = 0; col < kN; ++col) {
+        int piv = col;
+        for (int r = col + 1; r < kN; ++r) {
+            if (std::fabs(m[r][col]) > std::fabs(m[piv][col])) piv = r;
+        }
+        if (std::fabs(m[piv][col]) < 1e-12 * std::max(1.0, scale)) return false;
+        for (int j = 0; j < kN + 2; ++j) std::swap(m[col][j], m[piv][j]);
+        for (int r = 0; r < kN; ++r) {
+            if (r == col) continue;
+            const double f = m[r][col] / m[col][col];
+            for (int j = col; j < kN + 2; ++j) m[r][j] -= f * m[col][j];
+        }
+    }
+    for (int i = 0; i < kN; ++i) {
+        cx[static_cast<size_t>(i)] = m[i][kN] / m[i][i];
+        cy[static_cast<size_t>(i)] = m[i][kN + 1] / m[i][i];
+    }
+    return true;
+}
+
+bool usable(const EyeSample& e) {
+    return e.valid && std::isfinite(e.x) && std::isfinite(e.y) && std::fabs(e.x) < 1e6 &&
+           std::fabs(e.y) < 1e6;
+}
+
+}  // namespace
+
+Calibration::Calibration(const DisplayGeometry& display) : display_(display) {}
+
+void Calibration::begin() {
+    points_.clear();
+    skipped_ = 0;
+}
+
+void Calibration::add_sample(double tx, double ty, const EyeSample& left, const EyeSample& right) {
+    if (!std::isfinite(tx) || !std::isfinite(ty) || (!usable(left) && !usable(right))) {
+        ++skipped_;
+        return;
+    }
+    points_.push_back({tx, ty, left, right});
+}
+
+Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
+    EyeFit fit;
+    std::vector<size_t> idx;  // raw is centred and scaled: well-conditioned normal equations
+    for (size_t i = 0; i < points_.size(); ++i) {
+        if (usable(side == EyeSide::kLeft ? points_[i].left : points_[i].right)) idx.push_back(i);
+    }
+    auto raw = [&](size_t i) -> const EyeSample& {
+        return side == EyeSide::kLeft ? points_[i].left : points_[i].right;
+    };
+    double mx = 0, my = 0;
+    for (size_t i : idx) {
+        mx += raw(i).x;
+        my += raw(i).y;
+    }
+    mx /= std::max<double>(1.0, static_cast<double>(idx.size()));
+    my /= std::max<double>(1.0, static_cast<double>(idx.size()));
+    double spread = 0;
+    for (size_t i : idx)
+        spread = std::max({spread, std::fabs(raw(i).x - mx), std::fabs(raw(i).y - my)});
+    fit.norm[0] = mx;
+    fit.norm[1] = my;
+    fit.norm[2] = spread > 0 ? 1.0 / spread : 1.0;
+    auto fit_on = [&](const std::vector<size_t>& use, EyeFit& f) {
+        f.norm[0] = fit.norm[0];
+        f.norm[1] = fit.norm[1];
+        f.norm[2] = fit.norm[2];
+        double a[kN][kN] = {};
+        double b[2][kN] = {};
+        for (size_t i : use) {
+            double t[kN];
+            terms((raw(i).x - f.norm[0]) * f.norm[2], (raw(i).y - f.norm[1]) * f.norm[2], t);
+            for (int r = 0; r < kN; ++r) {
+                for (int c = 0; c < kN; ++c) a[r][c] += t[r] * t[c];
+                b[0][r] += t[r] * points_[i].tx;
+                b[1][r] += t[r] * points_[i].ty;
+            }
+        }
+        f.ok = use.size() >= static_cast<size_t>(kN) && solve(a, b, f.cx, f.cy);
+    };
+    auto error_deg = [&](size_t i, const EyeFit& f) {
+        double ax, ay, bx, by;
+        display_.to_degrees(eval(f.cx, f.norm, raw(i).x, raw(i).y),
+                            eval(f.cy, f.norm, raw(i).x, raw(i).y), ax, ay);
+        display_.to_degrees(points_[i].tx, points_[i].ty, bx, by);
+        return std::hypot(ax - bx, ay - by);
+    };
+    fit_on(idx, fit);
+    if (!fit.ok) return fit;
+    // One outlier pass: drop samples beyond 3x the median error (and > 0.5 deg), refit.
+    std::vector<double> err;
+    for (size_t i : idx) err.push_back(error_deg(i, fit));
+    std::vector<double> sorted = err;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                     sorted.end());
+    const double limit = std::max(0.5, 3.0 * sorted[sorted.size() / 2]);
+    std::vector<size_t> kept;
+    for (size_t k = 0; k < idx.size(); ++k) {
+        if (err[k] <= limit) kept.push_back(idx[k]);
+    }
+    if (kept.size() != idx.size() && kept.size() >= static_cast<size_t>(kN)) {
+        EyeFit refit;
+        fit_on(kept, refit);
+        if (refit.ok) fit = refit;
+    } else {
+        kept = idx;
+    }
+    q.fitted = true;
+    q.samples_used = static_cast<int>(kept.size());
+    q.samples_rejected = static_cast<int>(idx.size() - kept.size());
+    double acc = 0.0;
+    for (size_t i : kept) acc += error_deg(i, fit);
+    q.accuracy_deg = acc / static_cast<double>(kept.size());
+    // Precision per target, on the mapped samples in their arrival order.
+    std::map<std::pair<double, double>, std::vector<std::pair<double, double>>> per_target;
+    for (size_t i : kept) {
+        double dx, dy;
+        display_.to_degrees(eval(fit.cx, fit.norm, raw(i).x, raw(i).y),
+                            eval(fit.cy, fit.norm, raw(i).x, raw(i).y), dx, dy);
+        per_target[{points_[i].tx, points_[i].ty}].emplace_back(dx, dy);
+    }
+    double s2s = 0.0, dev = 0.0;
+    size_t n2s = 0, ndev = 0;
+    for (const auto& [target, v] : per_target) {
+        double cx = 0, cy = 0;
+        for (const auto& p : v) {
+            cx += p.first;
+            cy += p.second;
+        }
+        cx /= static_cast<double>(v.size());
+        cy /= static_cast<double>(v.size());
+        for (size_t k = 0; k < v.size(); ++k) {
+            dev += (v[k].first - cx) * (v[k].first - cx) + (v[k].second - cy) * (v[k].second - cy);
+            ++ndev;
+            if (k > 0) {
+                const double ddx = v[k].first - v[k - 1].first, ddy = v[k].second - v[k - 1].second;
+                s2s += ddx * ddx + ddy * ddy;
+                ++n2s;
+            }
+        }
+    }
+    q.precision_rms_deg = n2s ? std::sqrt(s2s / static_cast<double>(n2s)) : 0.0;
+    q.precision_sd_deg = ndev ? std::sqrt(dev / static_cast<double>(ndev)) : 0.0;
+    return fit;
+}
+
+Result<CalibrationQuality> Calibration::fit() {
+    std::map<std::pair<double, double>, int> targets;
+    for (const auto& p : points_) targets[{p.tx, p.ty}]++;
+    if (targets.size() < static_cast<size_t>(kN)) {
+        return make_error("calibration needs at least 6 distinct targets, got " +
+                          std::to_string(targets.size()));
+    }
+    CalibrationQuality q;
+    q.targets = static_cast<int>(targets.size());
+    EyeFit l = fit_eye(EyeSide::kLeft, q.left);
+    EyeFit r = fit_eye(EyeSide::kRight, q.right);
+    if (!l.ok && !r.ok) {
+        return make_error(
+            "calibration fit failed for both eyes (too few valid samples or "
+            "targets not spread over the display)");
+    }
+    left_ = l;
+    right_ = r;
+    quality_ = q;
+    return q;
+}
+
+EyeSample Calibration::apply(EyeSide side, const EyeSample& raw) const {
+    const EyeFit& f = side == EyeSide::kLeft ? left_ : right_;
+    if (!f.ok || !raw.valid) return raw;
+    EyeSample out = raw;
+    out.x = eval(f.cx, f.norm, raw.x, raw.y);
+    out.y = eval(f.cy, f.norm, raw.x, raw.y);
+    if (!std::isfinite(out.x) || !std::isfinite(out.y)) out.valid = false;
+    return out;
+}
+
+std::string Calibration::to_json() const {
+    nlohmann::json j;
+    j["version"] = 1;
+    j["model"] = "poly2_cross";
+    auto eye = [](const EyeFit& f, const EyeQuality& q) {
+        nlohmann::json e;
+        e["fitted"] = f.ok;
+        if (f.ok) {
+            e["cx"] = f.cx;
+            e["cy"] = f.cy;
+            e["norm"] = {f.norm[0], f.norm[1], f.norm[2]};
+            e["accuracy_deg"] = q.accuracy_deg;
+            e["precision_rms_deg"] = q.precision_rms_deg;
+            e["precision_sd_deg"] = q.precision_sd_deg;
+        }
+        return e;
+    };
+    j["left"] = eye(left_, quality_.left);
+    j["right"] = eye(right_, quality_.right);
+    j["targets"] = quality_.targets;
+    return j.dump(2);
+}
+
+Result<Calibration> Calibration::from_json(const std::string& text, const DisplayGeometry& d) {
+    Calibration c(d);
+    try {
+        const auto j = nlohmann::json::parse(text);
+        if (j.value("version", 0) != 1 || j.value("model", "") != "poly2_cross") {
+            return make_error("calibration: unsupported version or model");
+        }
+        auto eye = [](const nlohmann::json& e, EyeFit& f, EyeQuality& q) {
+            f.ok = e.value("fitted", false);
+            if (!f.ok) return true;
+            f.cx = e.at("cx").get<Coefficients>();
+            f.cy = e.at("cy").get<Coefficients>();
+            const auto norm = e.at("norm").get<std::array<double, 3>>();
+            for (int i = 0; i < 3; ++i) f.norm[i] = norm[static_cast<size_t>(i)];
+            if (!std::isfinite(f.norm[0]) || !std::isfinite(f.norm[1]) || !(f.norm[2] > 0)) {
+                return false;
+            }
+            for (int i = 0; i < kN; ++i) {
+                if (!std::isfinite(f.cx[static_cast<size_t>(i)]) ||
+                    !std::isfinite(f.cy[static_cast<size_t>(i)])) {
+                    return false;
+                }
+            }
+            q.fitted = true;
+            q.accuracy_deg = e.value("accuracy_deg", kNaN);
+            q.precision_rms_deg = e.value("precision_rms_deg", kNaN);
+            q.precision_sd_deg = e.value("precision_sd_deg", kNaN);
+            return true;
+        };
+        if (!eye(j.at("left"), c.left_, c.quality_.left) ||
+            !eye(j.at("right"), c.right_, c.quality_.right)) {
+            return make_error("calibration: non-finite coefficient");
+        }
+        c.quality_.targets = j.value("targets", 0);
+    } catch (const std::exception& e) {
+        return make_error(std::string("calibration: bad JSON: ") + e.what());
+    }
+    return c;
+}
+
+Result<void> Calibration::save(const std::string& path) const {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::trunc);
+        if (!f) return make_error("cannot write " + tmp);
+        f << to_json() << '\n';
+        if (!f.flush()) return make_error("write failed: " + tmp);
+    }
+    // Rename so a crash never leaves a half-written calibration.
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) return make_error("cannot rename to " + path);
+    return {};
+}
+
+Result<Calibration> Calibration::load(const std::string& path, const DisplayGeometry& d) {
+    std::ifstream f(path);
+    if (!f) return make_error("cannot read calibration " + path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return from_json(ss.str(), d);
+}
+
+Result<std::string> Calibration::user_path(const std::string& dir, const std::string& user) {
+    if (user.empty() || user.size() > 64 || user[0] == '.') {
+        return make_error("bad user name '" + user + "'");
+    }
+    for (char ch : user) {
+        const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                        (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
+        if (!ok) return make_error("bad user name '" + user + "': use [A-Za-z0-9._-]");
+    }
+    return dir + "/" + user + ".json";
+}
+
+}  // namespace fovea::gaze
