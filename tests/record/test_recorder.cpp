@@ -1,0 +1,251 @@
+#include <csignal>
+#include <filesystem>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "fovea/record/recorder.hpp"
+#include "fovea/record/streams.hpp"
+#include "fovea/record/xdf.hpp"
+#include "synthetic.hpp"
+#include "test_util.hpp"
+
+using namespace fovea::record;
+using fovea::record::test::same_double;
+using fovea::record::test::synthetic_gaze;
+using fovea::record::test::synthetic_raw;
+
+namespace {
+
+RecorderOptions options(const std::string& path) {
+    RecorderOptions o;
+    o.path = path;
+    o.info.device_name = "synthetic";
+    o.info.driver = "test";
+    o.info.nominal_rate_hz = 1000;
+    o.info.clock.counter_bits = 32;
+    o.info.clock.tick_hz = 1e6;
+    o.info.display.distance_m = 0.65;
+    o.flush_interval_ns = 20'000'000;
+    o.boundary_interval_ns = 100'000'000;
+    return o;
+}
+
+// Receive times near 2^62 ns would lose precision as doubles; relative storage keeps them exact.
+constexpr int64_t kT0 = int64_t{4'000'000'000'000'000'000};
+
+void expect_eye(const fovea::gaze::EyeSample& a, const fovea::gaze::EyeSample& b) {
+    EXPECT_TRUE(same_double(a.x, b.x));
+    EXPECT_TRUE(same_double(a.y, b.y));
+    EXPECT_EQ(a.pupil_mm, b.pupil_mm);
+    EXPECT_EQ(a.valid, b.valid);
+}
+
+}  // namespace
+
+TEST(Recorder, EverySampleRoundTripsBitExactly) {
+    const auto dir = test::scratch_dir("roundtrip");
+    const std::string path = (dir / "r.xdf").string();
+    auto opt = options(path);
+    opt.info.time_origin_ns = kT0;
+    auto rec = Recorder::start(opt);
+    ASSERT_TRUE(rec.ok()) << rec.error().message;
+    constexpr int kN = 3000;
+    for (int i = 0; i < kN; ++i) {
+        (*rec)->push_raw(synthetic_raw(i, kT0), i % 500 < 250);
+        const auto g = synthetic_gaze(i, kT0);
+        (*rec)->push_gaze(g, g.t_processed_ns + 4000, 77 + static_cast<uint64_t>(i));
+        if (i % 1000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    }
+    auto st = (*rec)->stop();
+    ASSERT_TRUE(st.ok()) << st.error().message;
+    EXPECT_EQ(st->raw_samples, static_cast<uint64_t>(kN));
+    EXPECT_EQ(st->gaze_samples, static_cast<uint64_t>(kN));
+    EXPECT_EQ(st->dropped_samples, 0u);
+    EXPECT_GT(st->flushes, 1u);
+
+    auto f = xdf::read_file(path);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    EXPECT_FALSE(f->truncated);
+    const auto* raw = f->find(kRawStreamName);
+    const auto* gz = f->find(kGazeStreamName);
+    const auto* lat = f->find(kLatencyStreamName);
+    ASSERT_TRUE(raw && gz && lat);
+    ASSERT_EQ(raw->sample_count(), static_cast<std::size_t>(kN));
+    ASSERT_EQ(gz->sample_count(), static_cast<std::size_t>(kN));
+    ASSERT_EQ(lat->sample_count(), static_cast<std::size_t>(kN));
+    EXPECT_FALSE(raw->footer_xml.empty());
+    auto ri = recording_info_from_xml(raw->header_xml);
+    ASSERT_TRUE(ri.ok());
+    EXPECT_EQ(ri->time_origin_ns, kT0);
+    EXPECT_EQ(ri->clock.counter_bits, 32);
+    EXPECT_EQ(ri->display.distance_m, 0.65);
+    EXPECT_EQ(raw->units[2], "ns");
+    for (int i = 0; i < kN; ++i) {
+        bool predict = false;
+        const auto a = synthetic_raw(i, kT0);
+        const auto b = decode_raw(&raw->values[static_cast<std::size_t>(i) * raw_channel_count()],
+                                  ri->time_origin_ns, &predict);
+        ASSERT_EQ(a.device_ticks, b.device_ticks);
+        ASSERT_EQ(a.t_receive_ns, b.t_receive_ns);
+        expect_eye(a.left, b.left);
+        expect_eye(a.right, b.right);
+        ASSERT_EQ(a.device_id, b.device_id);
+        ASSERT_EQ(a.truth, b.truth);
+        ASSERT_EQ(predict, i % 500 < 250);
+
+        const auto g = synthetic_gaze(i, kT0);
+        int64_t pub = 0;
+        uint64_t idx = 0;
+        const auto h = decode_gaze(&gz->values[static_cast<std::size_t>(i) * gaze_channel_count()],
+                                   ri->time_origin_ns, &pub, &idx);
+        ASSERT_EQ(g.t_capture_ns, h.t_capture_ns);
+        ASSERT_EQ(g.t_processed_ns, h.t_processed_ns);
+        ASSERT_EQ(pub, g.t_processed_ns + 4000);
+        ASSERT_EQ(idx, 77u + static_cast<uint64_t>(i));
+        ASSERT_EQ(g.event, h.event);
+        ASSERT_EQ(g.saccade.onset_ns, h.saccade.onset_ns);
+        ASSERT_EQ(g.saccade.peak_velocity_dps, h.saccade.peak_velocity_dps);
+        ASSERT_EQ(g.combined_deg_x, h.combined_deg_x);
+        expect_eye(g.combined, h.combined);
+        ASSERT_DOUBLE_EQ(lat->value(i, 3), 4.0);  // processed -> publish, µs
+    }
+    if (test::have_python()) {
+        const auto j = test::python_read(path, "--require-footers");
+        ASSERT_FALSE(j.is_null());
+        EXPECT_EQ(j["streams"][kRawStreamName]["count"], kN);
+        EXPECT_EQ(j["streams"][kGazeStreamName]["count"], kN);
+        EXPECT_EQ(j["streams"][kLatencyStreamName]["count"], kN);
+        EXPECT_GE(j["boundaries"].get<int>(), 2);
+        EXPECT_EQ(j["streams"][kGazeStreamName]["labels"][25], "event");
+        // the two readers agree on every channel's sum
+        const auto& sums = j["streams"][kGazeStreamName]["sums"];
+        for (int c = 0; c < gz->channel_count; ++c) {
+            double s = 0;
+            for (std::size_t i = 0; i < gz->sample_count(); ++i) {
+                if (!std::isnan(gz->value(i, c))) s += gz->value(i, c);
+            }
+            EXPECT_EQ(sums[c].get<double>(), s) << gz->labels[c];
+        }
+    }
+}
+
+TEST(Recorder, UnwritablePathIsOneClearError) {
+    auto r = Recorder::start(options("/nonexistent-dir/x.xdf"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("cannot create recording /nonexistent-dir/x.xdf"),
+              std::string::npos) << r.error().message;
+    auto full = Recorder::start(options("/dev/full"));
+    ASSERT_FALSE(full.ok());
+    EXPECT_NE(full.error().message.find("No space left"), std::string::npos) << full.error().message;
+}
+
+TEST(Recorder, DiskFullMidRecordingReportsOnceAndTheCallerKeepsGoing) {
+    // A real kernel write error: RLIMIT_FSIZE makes write() fail with EFBIG past 64 KiB.
+    const auto dir = test::scratch_dir("full");
+    const std::string path = (dir / "full.xdf").string();
+    std::signal(SIGXFSZ, SIG_IGN);
+    rlimit old{};
+    getrlimit(RLIMIT_FSIZE, &old);
+    rlimit lim = old;
+    lim.rlim_cur = 64 * 1024;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &lim), 0);
+    std::atomic<int> errors{0};
+    std::string first_error;
+    auto opt = options(path);
+    opt.on_error = [&](const std::string& e) {
+        if (errors++ == 0) first_error = e;
+    };
+    auto rec = Recorder::start(opt);
+    ASSERT_TRUE(rec.ok()) << rec.error().message;
+    const int64_t t0 = monotonic_ns();
+    int pushed = 0;
+    for (int i = 0; i < 20000; ++i) {
+        (*rec)->push_raw(synthetic_raw(i, t0), true);
+        const auto g = synthetic_gaze(i, t0);
+        (*rec)->push_gaze(g, g.t_processed_ns, static_cast<uint64_t>(i));
+        ++pushed;
+        if (i % 2000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+    auto st = (*rec)->stop();
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, SIG_DFL);
+    EXPECT_EQ(pushed, 20000);  // pushes never blocked or threw
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(errors.load(), 1);
+    EXPECT_NE(first_error.find("File too large"), std::string::npos) << first_error;
+    const auto s = (*rec)->stats();
+    EXPECT_TRUE(s.failed);
+    EXPECT_GT(s.dropped_samples, 0u);
+    EXPECT_EQ(s.raw_samples + s.gaze_samples + s.latency_samples + s.dropped_samples, 60000u);
+    // what reached the disk is readable, and repair closes it
+    auto f = xdf::read_file(path);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    EXPECT_GT(f->find(kRawStreamName)->sample_count(), 0u);
+    auto rep = xdf::repair(path);
+    ASSERT_TRUE(rep.ok()) << rep.error().message;
+}
+
+TEST(Recorder, KillDashNineLosesAtMostTheLastFlushAndRepairClosesTheFile) {
+    const auto dir = test::scratch_dir("kill9");
+    const std::string path = (dir / "k.xdf").string();
+    const std::string progress = (dir / "progress").string();
+    int pipefd[2];
+    ASSERT_EQ(pipe(pipefd), 0);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        // child: record at ~1 kHz forever; report how many samples were pushed >= 1 flush ago
+        close(pipefd[0]);
+        auto opt = options(path);
+        opt.flush_interval_ns = 100'000'000;
+        opt.boundary_interval_ns = 300'000'000;
+        auto rec = Recorder::start(opt);
+        if (!rec.ok()) _exit(3);
+        const int64_t t0 = monotonic_ns();
+        for (int i = 0;; ++i) {
+            (*rec)->push_raw(synthetic_raw(i, t0), true);
+            const auto g = synthetic_gaze(i, t0);
+            (*rec)->push_gaze(g, g.t_processed_ns, static_cast<uint64_t>(i));
+            if (i % 100 == 99) {
+                const int n = i + 1;
+                if (write(pipefd[1], &n, sizeof n) != sizeof n) _exit(4);
+                std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            }
+        }
+    }
+    close(pipefd[1]);
+    int pushed = 0;
+    // let it run ~1.2 s (12 progress reports), then kill -9 without warning
+    for (int k = 0; k < 12; ++k) ASSERT_EQ(read(pipefd[0], &pushed, sizeof pushed), 4);
+    // samples pushed more than one flush interval (+ slack) before the kill must be on disk
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    close(pipefd[0]);
+    ASSERT_TRUE(WIFSIGNALED(status));
+
+    auto f = xdf::read_file(path);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    const auto* raw = f->find(kRawStreamName);
+    ASSERT_NE(raw, nullptr);
+    EXPECT_GE(raw->sample_count(), static_cast<std::size_t>(pushed));
+    EXPECT_GE(f->boundaries, 2u);
+    EXPECT_TRUE(raw->footer_xml.empty());  // never closed
+    auto rep = xdf::repair(path);
+    ASSERT_TRUE(rep.ok()) << rep.error().message;
+    EXPECT_EQ(rep->footers_added, 3);
+    auto g = xdf::read_file(path);
+    ASSERT_TRUE(g.ok());
+    EXPECT_FALSE(g->truncated);
+    EXPECT_EQ(g->find(kRawStreamName)->sample_count(), raw->sample_count());
+    if (test::have_python()) {
+        const auto j = test::python_read(path, "--require-footers");
+        ASSERT_FALSE(j.is_null());
+        EXPECT_EQ(j["streams"][kRawStreamName]["count"].get<std::size_t>(), raw->sample_count());
+    }
+}
