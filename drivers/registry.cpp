@@ -2,6 +2,8 @@
 #include <string>
 
 #include "fovea/drivers/driver.hpp"
+#include "hid/hid_driver.hpp"
+#include "serial/serial_driver.hpp"
 #include "sim/sim_driver.hpp"
 
 namespace fovea::drivers {
@@ -10,6 +12,8 @@ namespace {
 // One line per driver.
 constexpr DriverRegistration kDrivers[] = {
     {"sim", &sim::make_driver},
+    {"hid", &hid::make_driver},
+    {"serial", &serial::make_driver},
 };
 
 }  // namespace

@@ -1,0 +1,368 @@
+// The serial driver: open the port, ask for the hello, parse frames as bytes arrive, reconnect
+// with exponential backoff when the port goes away (unplugged, pty closed).
+#include "serial/serial_driver.hpp"
+
+#include <sys/ioctl.h>
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <mutex>
+#include <optional>
+
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/write.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "serial/protocol.hpp"
+
+namespace fovea::drivers::serial {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kHelloRetry = std::chrono::milliseconds(250);
+
+int64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// FOVEA_LOG_DRV_SERIAL=debug sets the level.
+std::shared_ptr<spdlog::logger> logger() {
+    static const auto log = [] {
+        auto l = spdlog::get("drv.serial");
+        if (!l) l = spdlog::stderr_color_mt("drv.serial");
+        if (const char* level = std::getenv("FOVEA_LOG_DRV_SERIAL"))
+            l->set_level(spdlog::level::from_str(level));
+        return l;
+    }();
+    return log;
+}
+
+// One line per incident kind and second; the lines in between are counted, not lost.
+class LogLimiter {
+public:
+    void warn(const std::string& message) {
+        const auto now = Clock::now();
+        if (now - last_ < std::chrono::seconds(1)) {
+            ++suppressed_;
+            return;
+        }
+        if (suppressed_ != 0) {
+            logger()->warn("{} (+{} similar)", message, suppressed_);
+        } else {
+            logger()->warn("{}", message);
+        }
+        last_ = now;
+        suppressed_ = 0;
+    }
+
+private:
+    Clock::time_point last_{};
+    uint64_t suppressed_ = 0;
+};
+
+template <typename T>
+Result<void> read_key(const toml::table& t, const char* key, T& out) {
+    const toml::node* node = t.get(key);
+    if (!node) return {};
+    const auto v = node->value<T>();
+    if (!v) return make_error(std::string("serial: key '") + key + "' has the wrong type");
+    out = *v;
+    return {};
+}
+
+class SerialDriver final : public Driver {
+public:
+    SerialDriver(const SerialConfig& config, uint32_t device_id)
+        : config_(config), device_id_(device_id) {}
+    ~SerialDriver() override { close(); }
+
+    Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
+        io_ = &io;
+        sink_ = std::move(sink);
+        alive_ = std::make_shared<int>(0);
+        retry_timer_.emplace(io);
+        hello_timer_.emplace(io);
+        backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+        connect();
+        return {};
+    }
+
+    void close() override {
+        alive_.reset();
+        if (retry_timer_) retry_timer_->cancel();
+        if (hello_timer_) hello_timer_->cancel();
+        drop_port();
+        retry_timer_.reset();
+        hello_timer_.reset();
+    }
+
+    DriverInfo describe() const override {
+        std::lock_guard lock(mutex_);
+        DriverInfo info;
+        info.driver = "serial";
+        info.address = config_.port;
+        info.name = hello_ ? hello_->name : "serial tracker (no hello yet)";
+        info.nominal_rate_hz = hello_ ? hello_->rate_mhz / 1000.0 : config_.rate_hz;
+        if (hello_) info.clock = {hello_->counter_bits, static_cast<double>(hello_->tick_hz)};
+        info.binocular = hello_ ? hello_->binocular : true;
+        info.has_pupil = hello_ ? hello_->has_pupil : false;
+        return info;
+    }
+
+    DriverStats stats() const override {
+        std::lock_guard lock(mutex_);
+        return stats_;
+    }
+
+private:
+    void connect() {
+        boost::system::error_code ec;
+        port_.emplace(*io_);
+        port_->open(config_.port, ec);
+        if (!ec) {
+            // Keep a second process (another daemon, a terminal program) off the port.
+            if (::ioctl(port_->native_handle(), TIOCEXCL) != 0) {
+                ec.assign(errno, boost::system::system_category());
+            }
+        }
+        if (!ec) port_->set_option(boost::asio::serial_port::baud_rate(config_.baud), ec);
+        if (!ec) port_->set_option(boost::asio::serial_port::character_size(8), ec);
+        if (!ec) {
+            port_->set_option(boost::asio::serial_port::flow_control(
+                                  boost::asio::serial_port::flow_control::none), ec);
+        }
+        if (ec) {
+            drop_port();
+            set_error(config_.port + ": " + ec.message());
+            open_failures_.warn("cannot open " + config_.port + ": " + ec.message() +
+                                "; retrying");
+            schedule_retry();
+            return;
+        }
+        ++generation_;
+        decoder_.reset();
+        sequence_.reset();
+        {
+            std::lock_guard lock(mutex_);
+            if (ever_connected_) ++stats_.reconnects;
+            ever_connected_ = true;
+            stats_.connected = true;
+            hello_.reset();
+        }
+        logger()->info("{} open, {} baud", config_.port, config_.baud);
+        request_hello();
+        read();
+    }
+
+    void request_hello() {
+        std::vector<uint8_t> bytes;
+        encode_hello_request(host_seq_++, bytes);
+        if (config_.rate_hz > 0) {
+            Configure c;
+            c.rate_mhz = static_cast<uint32_t>(std::lround(config_.rate_hz * 1000.0));
+            encode_configure(c, host_seq_++, bytes);
+        }
+        send(std::move(bytes));
+        hello_timer_->expires_after(kHelloRetry);
+        hello_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
+            if (ec || token.expired() || !port_) return;
+            bool have;
+            {
+                std::lock_guard lock(mutex_);
+                have = hello_.has_value();
+            }
+            if (!have) request_hello();
+        });
+    }
+
+    void send(std::vector<uint8_t> bytes) {
+        auto buf = std::make_shared<std::vector<uint8_t>>(std::move(bytes));
+        boost::asio::async_write(*port_, boost::asio::buffer(*buf),
+                                 [buf, token = std::weak_ptr<int>(alive_)](auto, std::size_t) {
+                                     // A failed write shows up as a failed read too.
+                                 });
+    }
+
+    void read() {
+        port_->async_read_some(boost::asio::buffer(buffer_),
+                               [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                                   boost::system::error_code ec, std::size_t n) {
+                                   // A read of an earlier connection completing late: ignore.
+                                   if (token.expired() || !port_ || gen != generation_) return;
+                                   if (ec) {
+                                       lost_port(ec.message());
+                                       return;
+                                   }
+                                   on_bytes(n);
+                                   if (!token.expired() && port_) read();
+                               });
+    }
+
+    void on_bytes(std::size_t n) {
+        const int64_t t_receive = monotonic_ns();
+        {
+            std::lock_guard lock(mutex_);
+            stats_.bytes += n;
+        }
+        const auto token = std::weak_ptr<int>(alive_);
+        decoder_.feed(
+            std::span<const uint8_t>(buffer_.data(), n),
+            [&](const Frame& f) {
+                if (!token.expired()) on_frame(f, t_receive);
+            },
+            [&](FrameDecoder::Reject r) {
+                {
+                    std::lock_guard lock(mutex_);
+                    ++stats_.frames_dropped;
+                    stats_.resyncs = decoder_.stats().resyncs;
+                }
+                bad_frames_.warn(config_.port + ": dropped a frame (" + to_string(r) + ")");
+            });
+    }
+
+    void on_frame(const Frame& f, int64_t t_receive) {
+        const uint32_t missing = sequence_.on_seq(f.seq);
+        std::string why;
+        std::optional<gaze::RawSample> sample;
+        {
+            std::lock_guard lock(mutex_);
+            stats_.frames_lost += missing;
+            stats_.resyncs = decoder_.stats().resyncs;
+            if (f.type == static_cast<uint8_t>(FrameType::kHello)) {
+                if (auto h = decode_hello(f.payload, &why)) {
+                    if (!hello_) {
+                        logger()->info("{}: '{}' protocol v{}, {} Hz, {}-bit counter at {} Hz",
+                                       config_.port, h->name, h->protocol_version,
+                                       h->rate_mhz / 1000.0, h->counter_bits, h->tick_hz);
+                    }
+                    hello_ = std::move(*h);
+                    stats_.last_error.clear();
+                    backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+                } else {
+                    ++stats_.frames_dropped;
+                }
+            } else if (f.type == static_cast<uint8_t>(FrameType::kSample)) {
+                sample = decode_sample(f.payload, &why);
+                if (!sample) {
+                    ++stats_.frames_dropped;
+                } else if (!hello_) {
+                    // Without the hello the counter width and tick rate are unknown.
+                    ++stats_.frames_dropped;
+                    why = "sample before hello";
+                    sample.reset();
+                } else {
+                    if (hello_->counter_bits < 64)
+                        sample->device_ticks &= (1ULL << hello_->counter_bits) - 1;
+                    ++stats_.samples;
+                }
+            }
+            // Unknown frame types are newer protocol features: skipped, not errors.
+        }
+        if (!why.empty()) bad_frames_.warn(config_.port + ": dropped a frame (" + why + ")");
+        if (sample) {
+            sample->t_receive_ns = t_receive;
+            sample->device_id = device_id_;
+            sink_(*sample);
+        }
+    }
+
+    void lost_port(const std::string& why) {
+        logger()->warn("{}: lost ({}); reconnecting", config_.port, why);
+        set_error(config_.port + ": " + why);
+        drop_port();
+        schedule_retry();
+    }
+
+    void drop_port() {
+        if (port_) {
+            boost::system::error_code ignored;
+            port_->cancel(ignored);
+            port_->close(ignored);
+            port_.reset();
+        }
+        decoder_.reset();
+        std::lock_guard lock(mutex_);
+        stats_.connected = false;
+    }
+
+    void schedule_retry() {
+        retry_timer_->expires_after(backoff_);
+        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(config_.reconnect_max_ms));
+        retry_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
+            if (ec || token.expired()) return;
+            connect();
+        });
+    }
+
+    void set_error(std::string e) {
+        std::lock_guard lock(mutex_);
+        stats_.last_error = std::move(e);
+    }
+
+    SerialConfig config_;
+    uint32_t device_id_;
+    boost::asio::io_context* io_ = nullptr;
+    SampleSink sink_;
+    std::shared_ptr<int> alive_;
+    std::optional<boost::asio::serial_port> port_;
+    std::optional<boost::asio::steady_timer> retry_timer_, hello_timer_;
+    std::chrono::milliseconds backoff_{50};
+    std::array<uint8_t, 4096> buffer_{};
+    FrameDecoder decoder_;
+    SequenceTracker sequence_;
+    uint16_t host_seq_ = 0;
+    uint64_t generation_ = 0;  // connection number
+    bool ever_connected_ = false;
+    LogLimiter open_failures_, bad_frames_;
+
+    mutable std::mutex mutex_;  // guards stats_ and hello_ (stats()/describe() are any-thread)
+    DriverStats stats_;
+    std::optional<Hello> hello_;
+};
+
+}  // namespace
+
+Result<SerialConfig> parse_config(const toml::table& t) {
+    SerialConfig c;
+    int64_t baud = c.baud, rmin = c.reconnect_min_ms, rmax = c.reconnect_max_ms;
+    Result<void> r;
+    const auto check = [&](Result<void> res) {
+        if (r.ok() && !res.ok()) r = res;
+    };
+    check(read_key(t, "port", c.port));
+    check(read_key(t, "baud", baud));
+    check(read_key(t, "rate_hz", c.rate_hz));
+    check(read_key(t, "reconnect_min_ms", rmin));
+    check(read_key(t, "reconnect_max_ms", rmax));
+    if (!r.ok()) return r.error();
+    if (c.port.empty()) return make_error("serial: 'port' is required (e.g. port = \"/dev/ttyACM0\")");
+    if (baud < 50 || baud > 20'000'000) return make_error("serial: baud must be 50..20000000");
+    if (c.rate_hz != 0 && !(c.rate_hz >= 1 && c.rate_hz <= 10000))
+        return make_error("serial: rate_hz must be 1..10000 (or 0 to keep the device's)");
+    if (rmin < 1 || rmax < rmin || rmax > 600'000)
+        return make_error("serial: need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
+    c.baud = static_cast<uint32_t>(baud);
+    c.reconnect_min_ms = static_cast<int>(rmin);
+    c.reconnect_max_ms = static_cast<int>(rmax);
+    return c;
+}
+
+std::unique_ptr<Driver> make_serial_driver(const SerialConfig& config, uint32_t device_id) {
+    return std::make_unique<SerialDriver>(config, device_id);
+}
+
+Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id) {
+    auto c = parse_config(config);
+    if (!c.ok()) return c.error();
+    return make_serial_driver(*c, device_id);
+}
+
+}  // namespace fovea::drivers::serial
