@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Long libFuzzer runs: run_long.sh <build-dir> [runs-per-target|0] [target ...]
+# Default: every fuzz_* target in <build-dir>/tests/fuzz for 10^7 executions each, on one core
+# (the machine is shared). Corpora persist in <build-dir>/tests/fuzz/corpus/<target>; crashes
+# land in <build-dir>/tests/fuzz/artifacts/. Prints each target's final stats line.
+set -euo pipefail
+build=${1:?usage: run_long.sh <build-dir> [runs] [target ...]}
+runs=${2:-10000000}
+shift $(( $# >= 2 ? 2 : 1 ))
+here=$(cd "$(dirname "$0")" && pwd)
+fuzzdir=$build/tests/fuzz
+mkdir -p "$fuzzdir/artifacts"
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+    for exe in "$fuzzdir"/fuzz_*; do [ -x "$exe" ] && targets+=("$(basename "$exe")"); done
+fi
+for t in "${targets[@]}"; do
+    corpus=$fuzzdir/corpus/$t
+    mkdir -p "$corpus"
+    args=(-runs="$runs" -rss_limit_mb=2048 -print_final_stats=1
+          -artifact_prefix="$fuzzdir/artifacts/$t-")
+    [ -f "$here/$t.dict" ] && args+=(-dict="$here/$t.dict")
+    dirs=("$corpus")
+    [ -d "$here/seeds/$t" ] && dirs+=("$here/seeds/$t")
+    echo "== $t: $fuzzdir/$t ${args[*]} ${dirs[*]}"
+    start=$(date +%s)
+    "$fuzzdir/$t" "${args[@]}" "${dirs[@]}" 2>&1 | tee "$fuzzdir/$t.long.log" |
+        grep -E "^(stat::|==[0-9]+==|SUMMARY|Done)" || true
+    echo "== $t: $(( $(date +%s) - start )) s, exit ${PIPESTATUS[0]}"
+done
