@@ -2,6 +2,7 @@
 #include <string>
 
 #include "fovea/drivers/driver.hpp"
+#include "gazepoint/gazepoint_driver.hpp"
 #include "hid/hid_driver.hpp"
 #include "serial/serial_driver.hpp"
 #include "sim/sim_driver.hpp"
@@ -14,6 +15,7 @@ constexpr DriverRegistration kDrivers[] = {
     {"sim", &sim::make_driver},
     {"hid", &hid::make_driver},
     {"serial", &serial::make_driver},
+    {"gazepoint", &gazepoint::make_driver},
 };
 
 }  // namespace

@@ -61,6 +61,9 @@ TEST(SerialProtocol, SampleAndHelloRoundTrip) {
     auto s = sample(0x1234'5678'9abcULL);
     s.right = {};  // right eye lost
     encode_sample(s, 8, bytes);
+    std::vector<uint8_t> one;
+    encode_sample(sample(1000), 5, one);
+    EXPECT_EQ(one.size(), 40u);  // PROTOCOL.md's example
     FrameDecoder d;
     Collected c;
     feed_all(d, bytes, c);

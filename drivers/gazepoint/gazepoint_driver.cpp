@@ -1,0 +1,392 @@
+// The Gazepoint driver: connect, enable the fields we use (ENABLE_SEND_DATA last), parse REC
+// elements as they arrive, count CNT gaps, reconnect with backoff when the server goes away.
+#include "gazepoint/gazepoint_driver.hpp"
+
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <optional>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/write.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+namespace fovea::drivers::gazepoint {
+namespace {
+
+using boost::asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+constexpr auto kConnectTimeout = std::chrono::seconds(2);
+
+int64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// FOVEA_LOG_DRV_GAZEPOINT=debug sets the level.
+std::shared_ptr<spdlog::logger> logger() {
+    static const auto log = [] {
+        auto l = spdlog::get("drv.gazepoint");
+        if (!l) l = spdlog::stderr_color_mt("drv.gazepoint");
+        if (const char* level = std::getenv("FOVEA_LOG_DRV_GAZEPOINT"))
+            l->set_level(spdlog::level::from_str(level));
+        return l;
+    }();
+    return log;
+}
+
+// One line per incident kind and second; the lines in between are counted, not lost.
+class LogLimiter {
+public:
+    void warn(const std::string& message) {
+        const auto now = Clock::now();
+        if (now - last_ < std::chrono::seconds(1)) {
+            ++suppressed_;
+            return;
+        }
+        if (suppressed_ != 0) {
+            logger()->warn("{} (+{} similar)", message, suppressed_);
+        } else {
+            logger()->warn("{}", message);
+        }
+        last_ = now;
+        suppressed_ = 0;
+    }
+
+private:
+    Clock::time_point last_{};
+    uint64_t suppressed_ = 0;
+};
+
+template <typename T>
+Result<void> read_key(const toml::table& t, const char* key, T& out) {
+    const toml::node* node = t.get(key);
+    if (!node) return {};
+    const auto v = node->value<T>();
+    if (!v) return make_error(std::string("gazepoint: key '") + key + "' has the wrong type");
+    out = *v;
+    return {};
+}
+
+class GazepointDriver final : public Driver {
+public:
+    GazepointDriver(const GazepointConfig& config, uint32_t device_id)
+        : config_(config), device_id_(device_id) {}
+    ~GazepointDriver() override { close(); }
+
+    Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
+        io_ = &io;
+        sink_ = std::move(sink);
+        alive_ = std::make_shared<int>(0);
+        retry_timer_.emplace(io);
+        connect_timer_.emplace(io);
+        resolver_.emplace(io);
+        backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+        connect();
+        return {};
+    }
+
+    void close() override {
+        alive_.reset();
+        if (retry_timer_) retry_timer_->cancel();
+        if (connect_timer_) connect_timer_->cancel();
+        if (resolver_) resolver_->cancel();
+        drop_socket();
+        retry_timer_.reset();
+        connect_timer_.reset();
+        resolver_.reset();
+    }
+
+    DriverInfo describe() const override {
+        std::lock_guard lock(mutex_);
+        DriverInfo info;
+        info.driver = "gazepoint";
+        info.name = "Gazepoint (Open Gaze API)";
+        info.address = config_.host + ":" + config_.port;
+        info.nominal_rate_hz = config_.rate_hz > 0 ? config_.rate_hz : measured_rate_hz_;
+        info.clock = {64, clock_.tick_hz > 0 ? clock_.tick_hz : 1e6};
+        info.binocular = config_.gaze == GazeSource::kEyes;
+        info.has_pupil = true;
+        return info;
+    }
+
+    DriverStats stats() const override {
+        std::lock_guard lock(mutex_);
+        return stats_;
+    }
+
+private:
+    void connect() {
+        ++generation_;
+        resolver_->async_resolve(
+            config_.host, config_.port,
+            [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                boost::system::error_code ec, tcp::resolver::results_type results) {
+                if (token.expired() || gen != generation_) return;
+                if (ec) {
+                    fail("resolve " + config_.host + ": " + ec.message());
+                    return;
+                }
+                socket_.emplace(*io_);
+                connect_timer_->expires_after(kConnectTimeout);
+                connect_timer_->async_wait([this, token, gen](boost::system::error_code tec) {
+                    if (tec || token.expired() || gen != generation_) return;
+                    if (socket_) socket_->close();  // completes the connect with an error
+                });
+                boost::asio::async_connect(
+                    *socket_, results,
+                    [this, token, gen](boost::system::error_code cec, const tcp::endpoint&) {
+                        if (token.expired() || gen != generation_) return;
+                        connect_timer_->cancel();
+                        if (cec) {
+                            fail("connect " + address() + ": " + cec.message());
+                            return;
+                        }
+                        on_connected();
+                    });
+            });
+    }
+
+    void on_connected() {
+        boost::system::error_code ignored;
+        socket_->set_option(tcp::no_delay(true), ignored);
+        stream_.reset();
+        have_cnt_ = false;
+        {
+            std::lock_guard lock(mutex_);
+            if (ever_connected_) ++stats_.reconnects;
+            ever_connected_ = true;
+            stats_.connected = true;
+            stats_.last_error.clear();
+            clock_ = {};
+        }
+        logger()->info("connected to {}", address());
+        auto cmds = std::make_shared<std::string>();
+        for (const auto& c : startup_commands()) *cmds += format_element(c);
+        boost::asio::async_write(*socket_, boost::asio::buffer(*cmds),
+                                 [cmds](boost::system::error_code, std::size_t) {});
+        read();
+    }
+
+    void read() {
+        socket_->async_read_some(
+            boost::asio::buffer(buffer_),
+            [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                boost::system::error_code ec, std::size_t n) {
+                if (token.expired() || gen != generation_ || !socket_) return;
+                if (ec) {
+                    logger()->warn("{}: connection lost ({}); reconnecting", address(),
+                                   ec.message());
+                    fail(address() + ": " + ec.message());
+                    return;
+                }
+                on_bytes(n);
+                if (!token.expired() && gen == generation_ && socket_) read();
+            });
+    }
+
+    void on_bytes(std::size_t n) {
+        const int64_t t_receive = monotonic_ns();
+        const auto token = std::weak_ptr<int>(alive_);
+        const auto before = stream_.stats();
+        stream_.feed(std::string_view(buffer_.data(), n), [&](const Element& e) {
+            if (!token.expired()) on_element(e, t_receive);
+        });
+        const auto& after = stream_.stats();
+        std::lock_guard lock(mutex_);
+        stats_.bytes += n;
+        stats_.frames_dropped += after.dropped - before.dropped;
+        stats_.resyncs += after.resyncs - before.resyncs;
+        if (after.garbage_bytes != before.garbage_bytes) {
+            bad_.warn(address() + ": skipped " +
+                      std::to_string(after.garbage_bytes - before.garbage_bytes) +
+                      " bytes of garbage");
+        }
+    }
+
+    void on_element(const Element& e, int64_t t_receive) {
+        if (e.tag == "ACK") {
+            const std::string* id = e.get("ID");
+            if (id && *id == "TIME_TICK_FREQUENCY") {
+                const std::string* f = e.get("FREQ");
+                const double hz = f ? std::strtod(f->c_str(), nullptr) : 0.0;
+                std::lock_guard lock(mutex_);
+                if (hz > 0 && std::isfinite(hz)) clock_.tick_hz = hz;
+            }
+            return;
+        }
+        if (e.tag == "NACK") {
+            const std::string* id = e.get("ID");
+            logger()->info("{}: server does not support {}", address(), id ? *id : "?");
+            return;
+        }
+        if (e.tag != "REC") return;  // CAL and other records are not gaze
+        std::optional<uint64_t> cnt;
+        std::string why;
+        ServerClock clock;
+        {
+            std::lock_guard lock(mutex_);
+            clock = clock_;
+        }
+        auto s = decode_record(e, clock, config_.gaze, &cnt, &why);
+        {
+            std::lock_guard lock(mutex_);
+            if (cnt) {
+                // CNT counts records at the server: a jump forward is that many lost.
+                if (have_cnt_ && *cnt > last_cnt_ && *cnt - last_cnt_ < (1u << 30))
+                    stats_.frames_lost += *cnt - last_cnt_ - 1;
+                have_cnt_ = true;
+                last_cnt_ = *cnt;
+            }
+            if (!s) {
+                ++stats_.frames_dropped;
+            } else {
+                ++stats_.samples;
+                update_rate(s->device_ticks);
+            }
+        }
+        if (!s) {
+            bad_.warn(address() + ": dropped a record (" + why + ")");
+            return;
+        }
+        s->t_receive_ns = t_receive;
+        s->device_id = device_id_;
+        sink_(*s);
+    }
+
+    // Mean record interval from device time over 256-record windows (mutex held).
+    void update_rate(uint64_t ticks) {
+        const double hz = clock_.tick_hz > 0 ? clock_.tick_hz : 1e6;
+        if (window_n_ == 0) window_start_ = ticks;
+        if (++window_n_ == 257) {
+            const double dt = static_cast<double>(ticks - window_start_) / hz / 256.0;
+            if (dt > 0) measured_rate_hz_ = std::round(1.0 / dt);
+            window_n_ = 0;
+        }
+    }
+
+    void fail(const std::string& why) {
+        {
+            std::lock_guard lock(mutex_);
+            stats_.last_error = why;
+        }
+        connect_failures_.warn(why + "; retrying");
+        drop_socket();
+        retry_timer_->expires_after(backoff_);
+        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(config_.reconnect_max_ms));
+        retry_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
+            if (ec || token.expired()) return;
+            connect();
+        });
+    }
+
+    void drop_socket() {
+        ++generation_;  // late completions of this socket's operations are ignored
+        if (socket_) {
+            boost::system::error_code ignored;
+            socket_->shutdown(tcp::socket::shutdown_both, ignored);
+            socket_->close(ignored);
+            socket_.reset();
+        }
+        stream_.reset();
+        window_n_ = 0;
+        std::lock_guard lock(mutex_);
+        if (stats_.connected) backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+        stats_.connected = false;
+    }
+
+    std::string address() const { return config_.host + ":" + config_.port; }
+
+    GazepointConfig config_;
+    uint32_t device_id_;
+    boost::asio::io_context* io_ = nullptr;
+    SampleSink sink_;
+    std::shared_ptr<int> alive_;
+    std::optional<tcp::resolver> resolver_;
+    std::optional<tcp::socket> socket_;
+    std::optional<boost::asio::steady_timer> retry_timer_, connect_timer_;
+    std::chrono::milliseconds backoff_{100};
+    std::array<char, 8192> buffer_{};
+    ElementStream stream_;
+    uint64_t generation_ = 0;
+    bool ever_connected_ = false;
+    bool have_cnt_ = false;
+    uint64_t last_cnt_ = 0;
+    uint64_t window_start_ = 0;
+    int window_n_ = 0;
+    LogLimiter connect_failures_, bad_;
+
+    mutable std::mutex mutex_;  // guards stats_, clock_, measured_rate_hz_ (any-thread readers)
+    DriverStats stats_;
+    ServerClock clock_;
+    double measured_rate_hz_ = 0.0;
+};
+
+}  // namespace
+
+Result<GazepointConfig> parse_config(const toml::table& t) {
+    GazepointConfig c;
+    std::string address = c.host + ":" + c.port, gaze = "eyes";
+    int64_t rmin = c.reconnect_min_ms, rmax = c.reconnect_max_ms;
+    Result<void> r;
+    const auto check = [&](Result<void> res) {
+        if (r.ok() && !res.ok()) r = res;
+    };
+    check(read_key(t, "address", address));
+    check(read_key(t, "gaze", gaze));
+    check(read_key(t, "rate_hz", c.rate_hz));
+    check(read_key(t, "reconnect_min_ms", rmin));
+    check(read_key(t, "reconnect_max_ms", rmax));
+    if (!r.ok()) return r.error();
+    // host:port, [v6]:port, or a bare host (default port).
+    std::string host = address, port = std::to_string(kDefaultPort);
+    if (!address.empty() && address.front() == '[') {
+        const auto close = address.find(']');
+        if (close == std::string::npos) return make_error("gazepoint: bad address '" + address + "'");
+        host = address.substr(1, close - 1);
+        if (close + 1 < address.size()) {
+            if (address[close + 1] != ':') return make_error("gazepoint: bad address '" + address + "'");
+            port = address.substr(close + 2);
+        }
+    } else if (const auto colon = address.rfind(':'); colon != std::string::npos) {
+        host = address.substr(0, colon);
+        port = address.substr(colon + 1);
+    }
+    const long p = std::strtol(port.c_str(), nullptr, 10);
+    if (host.empty() || p <= 0 || p > 65535 || port.find_first_not_of("0123456789") != std::string::npos)
+        return make_error("gazepoint: address must be host:port (e.g. \"127.0.0.1:4242\"), got '" +
+                          address + "'");
+    if (gaze != "eyes" && gaze != "best")
+        return make_error("gazepoint: gaze must be \"eyes\" or \"best\", got '" + gaze + "'");
+    if (c.rate_hz < 0 || c.rate_hz > 10000) return make_error("gazepoint: rate_hz must be 0..10000");
+    if (rmin < 1 || rmax < rmin || rmax > 600'000)
+        return make_error("gazepoint: need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
+    c.host = host;
+    c.port = port;
+    c.gaze = gaze == "best" ? GazeSource::kBest : GazeSource::kEyes;
+    c.reconnect_min_ms = static_cast<int>(rmin);
+    c.reconnect_max_ms = static_cast<int>(rmax);
+    return c;
+}
+
+std::unique_ptr<Driver> make_gazepoint_driver(const GazepointConfig& config, uint32_t device_id) {
+    return std::make_unique<GazepointDriver>(config, device_id);
+}
+
+Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id) {
+    auto c = parse_config(config);
+    if (!c.ok()) return c.error();
+    return make_gazepoint_driver(*c, device_id);
+}
+
+}  // namespace fovea::drivers::gazepoint
