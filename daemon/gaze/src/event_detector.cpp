@@ -1,6 +1,7 @@
 #include "fovea/gaze/event_detector.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace fovea::gaze {
@@ -35,6 +36,7 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
 }
 
 void EventDetector::set_thresholds(const VelocityThresholds& t) {
+    if (std::isfinite(t.noise_deg) && t.noise_deg > 0) noise_ = t.noise_deg;
     peak_ = std::max(p_.min_peak_dps, t.peak_dps);
     onset_ = std::max(p_.min_onset_dps, std::min(t.onset_dps, peak_));
 }
@@ -62,6 +64,24 @@ void EventDetector::push(const DetectorInput& in) {
         e.y = std::isfinite(last_valid_y_) ? last_valid_y_ : 0.0;
         if (loss_start_ < 0 || loss_start_ < base_) loss_start_ = n_;
     }
+    // Running sums for O(1) window regressions, re-anchored every kBlock samples so they stay
+    // small (precision) however long the run.
+    if (n_ % kBlock == 0) {
+        anchor_t_ = e.t;
+        anchor_x_ = e.x;
+        anchor_y_ = e.y;
+        run_ = {};
+    }
+    {
+        const double rt = e.t - anchor_t_, rx = e.x - anchor_x_, ry = e.y - anchor_y_;
+        run_[0] += rt;
+        run_[1] += rx;
+        run_[2] += ry;
+        run_[3] += rt * rt;
+        run_[4] += rt * rx;
+        run_[5] += rt * ry;
+        e.cum = run_;
+    }
     buf_.push_back(e);
     ++n_;
     if (!e.valid && n_ - 1 - loss_start_ + 1 >= 1) {
@@ -71,7 +91,10 @@ void EventDetector::push(const DetectorInput& in) {
                 Entry& le = at(i);
                 if (le.lost) continue;
                 le.lost = true;
-                if (i < s2_next_ && i >= emit_next_) le.label = Label::kBlink;
+                if (i < s2_next_ && i >= emit_next_) {
+                    le.label = Label::kBlink;
+                    invalidate(i);
+                }
             }
         }
     }
@@ -124,6 +147,26 @@ bool EventDetector::pop(DetectorOutput& out) {
             out.event = Event::kUnknown;
             break;
     }
+    // Threshold statistics see final labels only, so blink edges never inflate them.
+    const bool inter = out.event == Event::kFixation || out.event == Event::kPursuit;
+    if (velocity_sink_) velocity_sink_->push_back(inter ? e.v : kNaN);
+    // Position noise: second difference, blind to steady pursuit.
+    if (inter && emit_next_ - 1 >= base_ && emit_next_ + 1 < n_) {
+        const Entry& a = at(emit_next_ - 1);
+        const Entry& b = at(emit_next_ + 1);
+        if (a.valid && b.valid && e.valid) {
+            const double d2 = std::hypot(b.x - 2 * e.x + a.x, b.y - 2 * e.y + a.y);
+            if (noise_sink_) noise_sink_->push_back(d2);
+            if (mode_ == DetectorMode::kOnline && d2 < 1.0) {
+                noise_weight_ += 1.0;
+                noise_ += (d2 - noise_) / std::min(noise_weight_, 4096.0);
+            }
+        }
+    }
+    if (mode_ == DetectorMode::kOnline && inter && std::isfinite(e.v) && e.v < peak_ &&
+        emit_next_ > base_) {
+        update_stats(e.v, std::min(e.t - at(emit_next_ - 1).t, 0.1));
+    }
     if ((out.event == Event::kSaccade || out.event == Event::kPso) && e.sacc >= 0) {
         if (const Record* r = record(e.sacc)) out.saccade = r->info;
     }
@@ -145,7 +188,6 @@ void EventDetector::compute_velocity(int64_t c) {
         const Entry& q = at(i);
         if (q.lost) {
             e.v = kNaN;
-            if (velocity_sink_) velocity_sink_->push_back(kNaN);
             return;
         }
         st += q.t - e.t;
@@ -163,7 +205,6 @@ void EventDetector::compute_velocity(int64_t c) {
         sty += dt * (q.y - ym);
     }
     e.v = stt > 0 ? std::hypot(stx / stt, sty / stt) : 0.0;
-    if (velocity_sink_) velocity_sink_->push_back(e.v);
 }
 
 EventDetector::Record* EventDetector::record(int64_t id) {
@@ -190,6 +231,7 @@ void EventDetector::mark_blink_back(int64_t c) {
         const bool artefact = q.label == Label::kSaccade || q.label == Label::kPso;
         if (!in_margin && !artefact) break;
         q.label = Label::kBlink;
+        invalidate(i);
     }
 }
 
@@ -201,8 +243,12 @@ void EventDetector::start_saccade(int64_t c) {
         return i >= lo && std::isfinite(q.v) && (is_inter(q.label));
     };
     while (usable(j - 1) && at(j - 1).v > onset_) --j;
-    // Onset is the local velocity minimum just below the onset threshold.
-    for (int extra = 0; extra < k_ && usable(j - 1) && at(j - 1).v < at(j).v; ++extra) --j;
+    // Onset: the first sample above the onset threshold. (N&H walk on to the velocity minimum;
+    // the derivative window already spreads the rise over k samples, so we stop here.)
+    for (int extra = 0; extra < p_.onset_extra_samples && usable(j - 1) && at(j - 1).v < at(j).v;
+         ++extra) {
+        --j;
+    }
     const int64_t id = next_id_++;
     records_.push_back({id, j, c, SaccadeInfo{}});
     while (records_.size() > 256) records_.pop_front();
@@ -212,6 +258,7 @@ void EventDetector::start_saccade(int64_t c) {
     const bool near_blink = at(j).t - last_lost_t_ < 2.0 * p_.blink_post_s;
     for (int64_t i = j; i <= c; ++i) {
         at(i).label = near_blink ? Label::kBlink : Label::kSaccade;
+        invalidate(i);
         at(i).sacc = id;
     }
     sacc_blink_ = near_blink;
@@ -259,6 +306,7 @@ void EventDetector::stage_saccades(int64_t c) {
         if (state_ != State::kIdle && sacc_onset_ >= 0) {
             for (int64_t i = std::max(sacc_onset_, emit_next_); i < c; ++i) {
                 at(i).label = Label::kBlink;
+                invalidate(i);
             }
         }
         state_ = State::kIdle;
@@ -283,7 +331,10 @@ void EventDetector::stage_saccades(int64_t c) {
             e.sacc = sacc_id_;
             sacc_peak_ = std::max(sacc_peak_, v);
             const double duration = e.t - at(std::max(sacc_onset_, base_)).t;
-            if ((v < onset_ && local_min) || duration > p_.max_saccade_s) end_saccade(c);
+            // The saccade ends at the first velocity minimum once the eye has decelerated: what
+            // follows a minimum that is still fast is the post-saccadic wobble, not the saccade.
+            const double offset = std::max(onset_, p_.offset_peak_fraction * sacc_peak_);
+            if ((v < offset && local_min) || duration > p_.max_saccade_s) end_saccade(c);
             return;
         }
         case State::kPso: {
@@ -299,6 +350,7 @@ void EventDetector::stage_saccades(int64_t c) {
                 if (v > onset_) {
                     for (int64_t i = std::max(post_start_, emit_next_); i <= c; ++i) {
                         at(i).label = Label::kPso;
+                        invalidate(i);
                         at(i).sacc = sacc_id_;
                     }
                     state_ = State::kPso;
@@ -318,38 +370,61 @@ void EventDetector::stage_saccades(int64_t c) {
         return;
     }
     e.label = Label::kInter;
-    if (mode_ == DetectorMode::kOnline && c > base_) {
-        update_stats(v, std::min(e.t - at(c - 1).t, 0.1));
+}
+
+double EventDetector::window_speed(int64_t lo, int64_t hi) const {
+    std::array<double, 6> sum{};
+    const double m = static_cast<double>(hi - lo + 1);
+    if (lo / kBlock == hi / kBlock) {
+        sum = at(hi).cum;
+        if (lo % kBlock != 0) {
+            const auto& before = at(lo - 1).cum;
+            for (size_t k = 0; k < sum.size(); ++k) sum[k] -= before[k];
+        }
+    } else {
+        // The window straddles a re-anchoring: sum it directly (rare).
+        const Entry& a = at(lo);
+        for (int64_t i = lo; i <= hi; ++i) {
+            const Entry& q = at(i);
+            const double rt = q.t - a.t, rx = q.x - a.x, ry = q.y - a.y;
+            sum[0] += rt;
+            sum[1] += rx;
+            sum[2] += ry;
+            sum[3] += rt * rt;
+            sum[4] += rt * rx;
+            sum[5] += rt * ry;
+        }
     }
+    const double stt = sum[3] - sum[0] * sum[0] / m;
+    if (!(stt > 0)) return 0.0;
+    const double vx = (sum[4] - sum[0] * sum[1] / m) / stt;
+    const double vy = (sum[5] - sum[0] * sum[2] / m) / stt;
+    return std::hypot(vx, vy);
 }
 
 void EventDetector::stage_smooth(int64_t d, int64_t newest) {
     Entry& e = at(d);
     if (e.label != Label::kInter) return;
-    int64_t lo = d, hi = d;
-    while (lo - 1 >= base_ && d - (lo - 1) <= w_ && is_inter(at(lo - 1).label)) --lo;
-    while (hi + 1 <= newest && (hi + 1) - d <= w_ && is_inter(at(hi + 1).label)) ++hi;
-    double speed = 0.0;
-    const int64_t m = hi - lo + 1;
-    if (m >= 3) {
-        double st = 0, sx = 0, sy = 0;
-        for (int64_t i = lo; i <= hi; ++i) {
-            st += at(i).t - e.t;
-            sx += at(i).x;
-            sy += at(i).y;
-        }
-        const double tm = st / m, xm = sx / m, ym = sy / m;
-        double stt = 0, stx = 0, sty = 0;
-        for (int64_t i = lo; i <= hi; ++i) {
-            const double dt = at(i).t - e.t - tm;
-            stt += dt * dt;
-            stx += dt * (at(i).x - xm);
-            sty += dt * (at(i).y - ym);
-        }
-        if (stt > 0) speed = std::hypot(stx / stt, sty / stt);
-    }
+    // Segment bounds: labels behind d are final; ahead, the verified run is cached.
+    if (d - 1 < base_ || !is_inter(at(d - 1).label)) seg_start_ = d;
+    const int64_t lo = std::max({seg_start_, d - w_, base_});
+    int64_t hi = std::max(d, std::min(verified_to_, d + w_));
+    while (hi + 1 <= newest && hi + 1 <= d + w_ && is_inter(at(hi + 1).label)) ++hi;
+    verified_to_ = hi;
+    const double span = at(hi).t - at(lo).t;
     const bool was_pursuit = d - 1 >= base_ && at(d - 1).label == Label::kPursuit;
-    const double threshold = was_pursuit ? 0.7 * p_.pursuit_dps : p_.pursuit_dps;
+    if (hi - lo + 1 < 3 || span < p_.min_pursuit_window_s) {
+        // Too little signal to see a slow drift: continue the previous decision.
+        e.label = was_pursuit ? Label::kPursuit : Label::kFixation;
+        return;
+    }
+    const double speed = window_speed(lo, hi);
+    // Fixational drift behaves like a random walk, so its apparent speed falls as the window
+    // grows while pursuit keeps its speed: the threshold scales as 1/sqrt(window).
+    // Noisier recordings drift more in appearance too: the floor rises with position noise.
+    const double base = std::max(p_.pursuit_dps, p_.pursuit_noise_gain * noise_);
+    double threshold = base * std::sqrt(p_.pursuit_ref_window_s / span);
+    if (was_pursuit) threshold *= p_.pursuit_hysteresis;
     e.label = speed > threshold ? Label::kPursuit : Label::kFixation;
 }
 
@@ -368,13 +443,15 @@ std::vector<double> EventDetector::velocities(std::span<const DetectorInput> sam
         }
     }
     d.flush();
+    while (d.pop(out)) {
+    }
     return v;
 }
 
-VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorInput> samples,
-                                                      const DetectorParams& params,
-                                                      double nominal_rate_hz) {
-    const std::vector<double> v = velocities(samples, params, nominal_rate_hz);
+namespace {
+
+// N&H's fixed point: peak = mean + 6 SD of the velocities below peak.
+VelocityThresholds nh_iterate(const std::vector<double>& v, const DetectorParams& params) {
     double peak = params.initial_peak_dps;
     double mean = 0, sd = 0;
     for (int iter = 0; iter < 100; ++iter) {
@@ -391,13 +468,60 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         mean = s / static_cast<double>(m);
         sd = std::sqrt(std::max(0.0, ss / static_cast<double>(m) - mean * mean));
         const double next = mean + params.peak_sd * sd;
-        const bool done = std::fabs(next - peak) < 1.0;
+        const bool done = std::fabs(next - peak) < 0.1;
         peak = next;
         if (done) break;
     }
     VelocityThresholds t;
     t.peak_dps = std::max(params.min_peak_dps, peak);
-    t.onset_dps = std::max(params.min_onset_dps, std::min(t.peak_dps, mean + params.onset_sd * sd));
+    t.onset_dps =
+        std::max(params.min_onset_dps, std::min(t.peak_dps, mean + params.onset_sd * sd));
+    return t;
+}
+
+}  // namespace
+
+VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorInput> samples,
+                                                      const DetectorParams& params,
+                                                      double nominal_rate_hz) {
+    // Start from N&H over every non-blink sample, then re-estimate from the samples the
+    // detector leaves as fixation/pursuit: the same statistic online mode tracks, and immune to
+    // lid artefacts and saccade flanks that drag a noisy recording's threshold up.
+    VelocityThresholds t = nh_iterate(velocities(samples, params, nominal_rate_hz), params);
+    // From below: a high start leaves saccades unlabelled and the statistic stuck high.
+    t.peak_dps = std::min(t.peak_dps, params.initial_peak_dps);
+    t.onset_dps = std::min(t.onset_dps, 0.5 * t.peak_dps);
+    for (int pass = 0; pass < 4; ++pass) {
+        std::vector<double> v;
+        v.reserve(samples.size());
+        EventDetector d(params, nominal_rate_hz, DetectorMode::kOffline);
+        d.set_thresholds(t);
+        d.velocity_sink_ = &v;
+        std::vector<double> noise;
+        d.noise_sink_ = &noise;
+        DetectorOutput out;
+        for (const auto& s : samples) {
+            d.push(s);
+            while (d.pop(out)) {
+            }
+        }
+        d.flush();
+        while (d.pop(out)) {
+        }
+        VelocityThresholds next = nh_iterate(v, params);
+        double sum = 0;
+        size_t m = 0;
+        for (double x : noise) {
+            if (x < 1.0) {
+                sum += x;
+                ++m;
+            }
+        }
+        next.noise_deg = m ? sum / static_cast<double>(m) : t.noise_deg;
+        const bool done = std::fabs(next.peak_dps - t.peak_dps) < 0.5;
+        t = next;
+        if (done) break;
+    }
     return t;
 }
 

@@ -14,6 +14,8 @@
 // offline mode takes thresholds from the whole recording (estimate_thresholds) and no bound.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <span>
@@ -25,17 +27,23 @@ namespace fovea::gaze {
 
 // One parameter set for every recording; the reasoning for each value is in README.md.
 struct DetectorParams {
-    double velocity_half_window_s = 0.006;  // SG derivative over +-6 ms
+    double velocity_half_window_s = 0.004;  // SG derivative over +-6 ms
     double initial_peak_dps = 100.0;        // N&H starting peak threshold
     double peak_sd = 6.0;
     double onset_sd = 3.0;
     double min_peak_dps = 30.0;  // floors for very quiet trackers
     double min_onset_dps = 15.0;
+    int onset_extra_samples = 0;            // walk back past the threshold to the minimum
+    double offset_peak_fraction = 0.2;      // offset: local minimum below this x peak
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
-    double smooth_half_window_s = 0.060;  // pursuit speed window, +-60 ms within a segment
-    double pursuit_dps = 2.5;             // enter pursuit above, leave below 0.7x
+    double smooth_half_window_s = 0.400;  // pursuit speed window, +-400 ms within a segment
+    double pursuit_dps = 1.8;             // speed threshold for a window of ref length
+    double pursuit_ref_window_s = 0.4;
+    double pursuit_noise_gain = 85.0;     // threshold floor per degree of position noise
+    double min_pursuit_window_s = 0.03;   // shorter windows keep the previous decision
+    double pursuit_hysteresis = 0.5;      // leave pursuit below this x threshold
     double min_blink_s = 0.016;           // shorter tracking losses are dropouts, not blinks
     double blink_pre_s = 0.030;           // lid artefacts before / after the lost samples
     double blink_post_s = 0.060;
@@ -61,6 +69,7 @@ struct DetectorOutput {
 struct VelocityThresholds {
     double peak_dps = 100.0;
     double onset_dps = 50.0;
+    double noise_deg = 0.05;  // mean |second difference| of position in fixation/pursuit
 };
 
 // Not thread-safe; one owner thread.
@@ -106,6 +115,7 @@ private:
         bool lost = false;   // part of a loss long enough to be a blink
         Label label = Label::kPending;
         int64_t sacc = -1;  // saccade record id
+        std::array<double, 6> cum{};  // running sums t, x, y, tt, tx, ty since the anchor
     };
     struct Record {
         int64_t id;
@@ -123,6 +133,8 @@ private:
     void finish_record(int64_t id, int64_t last);
     void mark_blink_back(int64_t c);
     void update_stats(double v, double dt);
+    double window_speed(int64_t lo, int64_t hi) const;
+    void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
     void advance(bool flushing);
     bool is_inter(Label l) const {
@@ -138,7 +150,7 @@ private:
     int history_;    // samples kept behind the emission point
     double peak_, onset_;
     // Online threshold statistics (exponentially weighted, warm-started with a prior).
-    double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.5;
+    double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.1;
 
     std::deque<Entry> buf_;
     int64_t base_ = 0;      // absolute index of buf_.front()
@@ -148,6 +160,11 @@ private:
     int64_t s3_next_ = 0;   // next sample for the fixation/pursuit stage
     int64_t emit_next_ = 0;
     bool flushing_ = false;
+    static constexpr int64_t kBlock = 1 << 14;
+    double anchor_t_ = 0.0, anchor_x_ = 0.0, anchor_y_ = 0.0;
+    std::array<double, 6> run_{};
+    int64_t seg_start_ = 0;    // first sample of the intersaccadic segment at stage 3
+    int64_t verified_to_ = -1;  // samples (s3, verified_to_] are known intersaccadic
 
     double last_valid_x_ = kNaN, last_valid_y_ = kNaN;
     int64_t loss_start_ = -1;  // first index of the current tracking loss
@@ -161,7 +178,9 @@ private:
     double post_t0_ = 0.0;
     double pso_peak_ = 0.0;
     std::deque<Record> records_;
-    std::vector<double>* velocity_sink_ = nullptr;  // velocities(): collects every value
+    std::vector<double>* velocity_sink_ = nullptr;
+    std::vector<double>* noise_sink_ = nullptr;
+    double noise_ = 0.05, noise_weight_ = 0.0;  // velocities(): collects every value
 };
 
 }  // namespace fovea::gaze
