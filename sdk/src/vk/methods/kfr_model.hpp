@@ -55,6 +55,7 @@ public:
     double radial_scale(double u) const;
 
     double log_max_radius() const { return L_; }  // Eq. 12
+    Vec2d gaze() const { return gaze_; }           // as clamped to the screen
     int buffer_width() const { return w_; }
     int buffer_height() const { return h_; }
 

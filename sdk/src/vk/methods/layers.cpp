@@ -1,0 +1,298 @@
+// Method "layers": Guenter et al. 2012 eccentricity layers. Layer radii and sampling factors
+// come from the §4.3 optimisation (layers_model.hpp) for the configured display and MAR slope.
+// Each frame the host renders every layer due this frame (views(): a crop of its projection
+// around the gaze, snapped to the layer's texel grid, plus a jitter of ±0.5 layer texel); the
+// module shades each layer, resolves it onto its unjittered grid blended with its reprojected
+// history, and composites all layers bilinearly with smoothstep circle masks.
+// Options: layers.count (3), layers.slope (acuity.mar_slope), layers.omega0 (acuity.mar_omega0),
+// layers.half_rate (0: every layer every frame; 1: outer layers on alternate frames,
+// staggered), layers.alpha (0.5: weight of the current frame in the outer layers' blend).
+// The inner layer uses the frame's own jitter and no history, so the fovea is the full-rate
+// image (s = 1, same samples).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "../method.hpp"
+#include "layers_model.hpp"
+
+namespace fovea::vk {
+namespace {
+
+constexpr int kMaxLayers = 4;
+constexpr double kPi = 3.14159265358979323846;
+
+struct ShadePush {  // shaders/layers_shade.shade.comp
+    float origin[2];
+    float jitter[2];
+    float s;
+    float pad[3];
+};
+struct ResolvePush {  // shaders/layers_resolve.comp
+    float origin[2];
+    float prev_origin[2];
+    float jitter[2];
+    float s;
+    float alpha;
+    int32_t has_history;
+    float pad;
+    float view_jitter[2];
+};
+struct LayerInfoGpu {  // shaders/layers_common.glsl LayerInfo
+    float a[4];
+    float b[4];
+};
+struct LayerTable {
+    int32_t count;
+    int32_t pad[3];
+    LayerInfoGpu layer[kMaxLayers];
+};
+static_assert(sizeof(ShadePush) == 32 && sizeof(ResolvePush) == 48, "push layouts");
+static_assert(sizeof(LayerTable) == 16 + 32 * kMaxLayers, "std430 layout");
+
+struct LayerState {
+    double s = 1.0;
+    VkExtent2D texels{};     // layer image size
+    double radius_px = 0.0;  // mask radius; 0 for the outer layer
+    std::array<Image, kGBufferImageCount> gbuffer;
+    GBufferRefs refs;
+    Image current;
+    std::array<Image, 2> history;
+    int which = 0;           // history image holding the latest resolve
+    bool has_history = false;
+    double origin[2]{0, 0};       // of this frame's request
+    double prev_origin[2]{0, 0};  // of the latest resolve
+    float jitter[2]{0, 0};
+    uint64_t planned_frame = UINT64_MAX;
+    bool due = false;
+    VkDescriptorSet shade_set = VK_NULL_HANDLE;
+    std::array<VkDescriptorSet, 2> resolve_sets{};  // [i]: reads history[i], writes the other
+};
+
+class LayersMethod final : public Method {
+public:
+    Result<void> init(const ModuleContext& ctx) override {
+        extent_ = ctx.extent;
+        jitter_length_ = ctx.config.jitter_length;
+        const EyeDisplay& d = ctx.config.display;
+        methods::LayerDisplay display;
+        display.resolution_px = int(extent_.width);
+        display.distance_cm = 1.0;  // only W*/V* matters
+        display.width_cm = 2.0 * std::tan(d.fov_h_deg * 0.5 * kPi / 180.0);
+        display.aspect = double(extent_.height) / double(extent_.width);
+        if (display.aspect > 1.0)
+            return make_error("layers: portrait displays are not supported (Guenter fn. 8)");
+        methods::LayerOptions o;
+        o.layer_count = int(ctx.option_number("layers.count", 3));
+        o.slope = ctx.option_number("layers.slope", ctx.config.acuity.mar_slope);
+        o.omega0_deg = ctx.option_number("layers.omega0", ctx.config.acuity.mar_omega0);
+        half_rate_ = ctx.option_number("layers.half_rate", 0.0) != 0.0;
+        o.half_rate_outer = half_rate_;
+        alpha_ = float(ctx.option_number("layers.alpha", 0.5));
+        if (!(alpha_ > 0.0f && alpha_ <= 1.0f)) return make_error("layers.alpha must be in (0, 1]");
+        auto plan = methods::optimise_layers(display, o);
+        if (!plan) return make_error("layers: " + plan.error().message);
+        plan_ = *plan;
+
+        count_ = int(plan_.layers.size());
+        for (int i = 0; i < count_; ++i) {
+            const methods::Layer& l = plan_.layers[std::size_t(i)];
+            LayerState& st = layers_[std::size_t(i)];
+            st.s = l.sampling_factor;
+            if (i + 1 < count_) {
+                const uint32_t n = std::max(1u, uint32_t(std::ceil(l.diameter_px)));
+                st.texels = {n, n};
+                st.radius_px = 0.5 * n * st.s;
+            } else {
+                st.texels = {std::max(1u, uint32_t(std::ceil(extent_.width / st.s))),
+                             std::max(1u, uint32_t(std::ceil(extent_.height / st.s)))};
+            }
+            for (int g = 0; g < kGBufferImageCount; ++g) {
+                st.gbuffer[std::size_t(g)] =
+                    Image(ctx.device, st.texels, kGBufferFormats[std::size_t(g)], kGBufferUsage);
+                st.refs.images[std::size_t(g)] = st.gbuffer[std::size_t(g)].ref();
+            }
+            st.refs.extent = st.texels;
+            st.current = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+            for (Image& h : st.history)
+                h = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+        }
+
+        const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        const Binding shade_b[] = {img, img, img, img, img, img, img};
+        const Binding resolve_b[] = {img, img, img, img};
+        const Binding composite_b[] = {img, img, img, img, img, img, img, img,
+                                       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+        auto shade = ctx.shading_pipeline("layers_shade.shade.comp", shade_b, sizeof(ShadePush));
+        if (!shade) return shade.error();
+        shade_ = std::move(*shade);
+        resolve_ = ctx.builtin_pipeline("layers_resolve.comp", resolve_b, sizeof(ResolvePush), false);
+        composite_ = ctx.builtin_pipeline("layers_composite.comp", composite_b, 0, true);
+        table_ = Buffer(ctx.device, sizeof(LayerTable), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+
+        const VkDevice dev = ctx.device.device();
+        for (int i = 0; i < count_; ++i) {
+            LayerState& st = layers_[std::size_t(i)];
+            st.shade_set = shade_.allocate_set();
+            DescriptorWriter w(dev, st.shade_set);
+            for (uint32_t g = 0; g < uint32_t(kGBufferImageCount); ++g)
+                w.storage_image(g, st.gbuffer[g].view());
+            w.storage_image(6, st.current.view()).commit();
+            for (int k = 0; k < 2; ++k) {
+                st.resolve_sets[std::size_t(k)] = resolve_.allocate_set();
+                DescriptorWriter(dev, st.resolve_sets[std::size_t(k)])
+                    .storage_image(0, st.current.view())
+                    .storage_image(1, st.gbuffer[static_cast<int>(GBufferImage::kMotion)].view())
+                    .storage_image(2, st.history[std::size_t(k)].view())
+                    .storage_image(3, st.history[std::size_t(1 - k)].view())
+                    .commit();
+            }
+        }
+        composite_set_ = composite_.allocate_set();
+        DescriptorWriter w(dev, composite_set_);
+        for (int i = 0; i < kMaxLayers; ++i) {
+            // Unused slots repeat the outer layer: every binding must hold a valid image.
+            const LayerState& st = layers_[std::size_t(std::min(i, count_ - 1))];
+            w.storage_image(uint32_t(2 * i), st.history[0].view());
+            w.storage_image(uint32_t(2 * i + 1), st.history[1].view());
+        }
+        w.storage_buffer(8, table_).commit();
+        return {};
+    }
+
+    bool uses_full_gbuffer() const override { return false; }
+
+    std::vector<ViewRequest> views(uint64_t frame_index, const ResolvedGaze& gaze) override {
+        plan_frame(frame_index, gaze);
+        std::vector<ViewRequest> out;
+        for (int i = 0; i < count_; ++i) {
+            const LayerState& st = layers_[std::size_t(i)];
+            if (!st.due) continue;
+            ViewRequest v;
+            v.name = "layer" + std::to_string(i);
+            v.gbuffer = st.refs;
+            const double w = st.texels.width * st.s;
+            const double h = st.texels.height * st.s;
+            v.crop = {float(st.origin[0] / extent_.width), float(st.origin[1] / extent_.height),
+                      float((st.origin[0] + w) / extent_.width),
+                      float((st.origin[1] + h) / extent_.height)};
+            v.jitter_px = {st.jitter[0], st.jitter[1]};
+            out.push_back(std::move(v));
+        }
+        return out;
+    }
+
+    void record(const MethodFrame& f) override {
+        plan_frame(f.frame_index, f.gaze);  // no-op when views() already planned this frame
+        for (int i = 0; i < count_; ++i) {
+            LayerState& st = layers_[std::size_t(i)];
+            if (!st.due) continue;
+            ShadePush sp{};
+            sp.origin[0] = float(st.origin[0]);
+            sp.origin[1] = float(st.origin[1]);
+            // The inner layer's samples are the full-rate frame's own (same jitter, s = 1): they
+            // land on their pixels unresampled, exactly like method "full" writes them.
+            sp.jitter[0] = sp_jitter(i, 0);
+            sp.jitter[1] = sp_jitter(i, 1);
+            sp.s = float(st.s);
+            shade_.bind(f.cmd, f.frame_set, st.shade_set, &sp, sizeof(sp));
+            vkCmdDispatch(f.cmd, div_up(st.texels.width, 8), div_up(st.texels.height, 8), 1);
+        }
+        compute_barrier(f.cmd);
+        for (int i = 0; i < count_; ++i) {
+            LayerState& st = layers_[std::size_t(i)];
+            if (!st.due) continue;
+            ResolvePush rp{};
+            rp.origin[0] = float(st.origin[0]);
+            rp.origin[1] = float(st.origin[1]);
+            rp.prev_origin[0] = float(st.prev_origin[0]);
+            rp.prev_origin[1] = float(st.prev_origin[1]);
+            rp.jitter[0] = sp_jitter(i, 0);
+            rp.jitter[1] = sp_jitter(i, 1);
+            rp.s = float(st.s);
+            rp.alpha = i == 0 ? 1.0f : alpha_;
+            rp.has_history = (st.has_history && !f.inputs.camera_cut) ? 1 : 0;
+            rp.view_jitter[0] = st.jitter[0];
+            rp.view_jitter[1] = st.jitter[1];
+            resolve_.bind(f.cmd, VK_NULL_HANDLE, st.resolve_sets[std::size_t(st.which)], &rp,
+                          sizeof(rp));
+            vkCmdDispatch(f.cmd, div_up(st.texels.width, 8), div_up(st.texels.height, 8), 1);
+            st.which = 1 - st.which;
+            st.has_history = true;
+            st.prev_origin[0] = st.origin[0];
+            st.prev_origin[1] = st.origin[1];
+        }
+        LayerTable table{};
+        table.count = count_;
+        for (int i = 0; i < count_; ++i) {
+            const LayerState& st = layers_[std::size_t(i)];
+            LayerInfoGpu& g = table.layer[i];
+            g.a[0] = float(st.prev_origin[0]);
+            g.a[1] = float(st.prev_origin[1]);
+            g.a[2] = float(st.s);
+            g.a[3] = float(st.which);
+            g.b[0] = float(st.texels.width);
+            g.b[1] = float(st.texels.height);
+            g.b[2] = float(st.radius_px);
+        }
+        std::memcpy(table_.data(), &table, sizeof(table));  // one frame in flight
+        compute_barrier(f.cmd);
+        composite_.bind(f.cmd, f.frame_set, composite_set_);
+        vkCmdDispatch(f.cmd, div_up(extent_.width, 8), div_up(extent_.height, 8), 1);
+    }
+
+    const methods::LayerPlan& plan() const { return plan_; }
+
+private:
+    float sp_jitter(int layer, int axis) const {
+        return layer == 0 ? 0.0f : layers_[std::size_t(layer)].jitter[axis];
+    }
+
+    // Which layers update this frame, where their crops sit and their jitter.
+    void plan_frame(uint64_t frame, const ResolvedGaze& gaze) {
+        if (layers_[0].planned_frame == frame) return;
+        // Keep the inner layers' crops on the display (a gaze off screen still foveates the edge).
+        const double gx = std::clamp(double(gaze.x_px), 0.0, double(extent_.width));
+        const double gy = std::clamp(double(gaze.y_px), 0.0, double(extent_.height));
+        for (int i = 0; i < count_; ++i) {
+            LayerState& st = layers_[std::size_t(i)];
+            st.planned_frame = frame;
+            // Half rate: the inner layer every frame, the others on alternate frames, staggered
+            // so that each frame updates about the same number of pixels (Guenter §4).
+            st.due = !half_rate_ || i == 0 || !st.has_history || (frame + uint64_t(i)) % 2 == 1;
+            if (!st.due) continue;
+            if (i + 1 < count_) {
+                // Snap the crop to the layer's texel grid so the history stays aligned.
+                const double size = st.texels.width * st.s;
+                st.origin[0] = std::round((gx - 0.5 * size) / st.s) * st.s;
+                st.origin[1] = std::round((gy - 0.5 * size) / st.s) * st.s;
+            } else {
+                st.origin[0] = st.origin[1] = 0.0;
+            }
+            if (i == 0) {  // the frame's own jitter: the fovea matches the full-rate frame
+                halton_jitter(frame, jitter_length_, st.jitter[0], st.jitter[1]);
+            } else {       // decorrelated per layer (Guenter Fig. 6: ±0.5 layer texel)
+                halton_jitter(frame + 3 * uint64_t(i), std::max(jitter_length_, 8u), st.jitter[0],
+                              st.jitter[1]);
+            }
+        }
+    }
+
+    VkExtent2D extent_{};
+    uint32_t jitter_length_ = 8;
+    bool half_rate_ = false;
+    float alpha_ = 0.5f;
+    methods::LayerPlan plan_;
+    int count_ = 0;
+    std::array<LayerState, kMaxLayers> layers_;
+    ComputePipeline shade_, resolve_, composite_;
+    VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
+    Buffer table_;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> make_layers_method() { return std::make_unique<LayersMethod>(); }
+
+}  // namespace fovea::vk

@@ -1,0 +1,54 @@
+#version 450
+// Guenter 2012: shade one eccentricity layer from the G-buffer the host rendered for its crop
+// (ViewRequest), one shade per layer texel with a footprint of s display pixels.
+#extension GL_GOOGLE_include_directive : require
+#include "fovea_frame.glsl"
+#include "fovea_host.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 1, binding = 0, rgba32f) uniform readonly image2D l_position;
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D l_normal;
+layout(set = 1, binding = 2, rgba8) uniform readonly image2D l_albedo;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D l_material;
+layout(set = 1, binding = 4, r32f) uniform readonly image2D l_depth;
+layout(set = 1, binding = 5, rg16f) uniform readonly image2D l_motion;
+layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D l_color;
+
+layout(push_constant) uniform ShadePush {
+    vec2 origin;   // full-resolution pixel of the layer's top-left corner
+    vec2 jitter;   // this frame's jitter in layer texels
+    float s;       // sampling factor: display pixels per layer texel
+    float pad0, pad1, pad2;
+} sp;
+
+shared uint group_shaded;
+
+void main() {
+    if (gl_LocalInvocationIndex == 0u) group_shaded = 0u;
+    barrier();
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (all(lessThan(t, imageSize(l_color)))) {
+        FoveaGSample g;
+        vec4 pos = imageLoad(l_position, t);
+        vec4 nrm = imageLoad(l_normal, t);
+        vec4 alb = imageLoad(l_albedo, t);
+        g.position = pos.xyz;
+        g.distance = pos.w;
+        g.normal = nrm.xyz;
+        g.normal_w = nrm.w;
+        g.albedo = alb.rgb;
+        g.albedo_a = alb.a;
+        g.material = imageLoad(l_material, t);
+        g.depth = imageLoad(l_depth, t).x;
+        g.motion = imageLoad(l_motion, t).xy;
+        g.background = !(pos.w > 0.0);
+        vec2 centre = sp.origin + (vec2(t) + 0.5 + sp.jitter) * sp.s;
+        float s_t = clamp(log2(sp.s) * 0.5, 0.0, 1.0);
+        vec3 c = fovea_shade(g, fovea_make_footprint(centre, sp.s, g.distance, s_t));
+        imageStore(l_color, t, vec4(c, 1.0));
+        atomicAdd(group_shaded, 1u);
+    }
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_shaded > 0u)
+        atomicAdd(fovea_stats.shaded_samples, group_shaded);
+}

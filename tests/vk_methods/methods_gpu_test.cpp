@@ -1,0 +1,208 @@
+// GPU tests of the issue-6 methods (layers, kfr, adaptive) on a small frame with the pixel
+// density of a 1080p desktop monitor: validation layers on, zero validation errors, skipped
+// cleanly without a Vulkan device.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "method_harness.hpp"
+
+namespace fovea::vk::test {
+namespace {
+
+constexpr uint32_t kW = 320;
+constexpr uint32_t kH = 180;
+
+Device* device() {
+    static std::unique_ptr<Device> d = [] {
+        DeviceOptions o;
+        o.validation = true;
+        o.log = [](LogLevel level, const std::string& msg) {
+            if (level >= LogLevel::kError) std::fprintf(stderr, "[vk] %s\n", msg.c_str());
+        };
+        auto r = Device::create_headless(o);
+        return r ? std::make_unique<Device>(std::move(*r)) : std::unique_ptr<Device>();
+    }();
+    return d.get();
+}
+
+#define REQUIRE_DEVICE()                                                       \
+    Device* dev = device();                                                    \
+    if (!dev) GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)"; \
+    const uint64_t errors_before = dev->validation_errors()
+
+// At 320 px with a 1080p monitor's pixel density the frame spans only ±4°, where Guenter's
+// slope (0.022) needs no layers at all (the model says full rate); a steeper slope exercises
+// the layer machinery at this size. The 1080p numbers come from `fovea bench`.
+std::vector<std::string> options_for(const std::string& method) {
+    if (method == "layers") return {"layers.slope=0.08"};
+    return {};
+}
+
+class MethodGpu : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MethodGpu, ShadesFewerSamplesAndKeepsTheFoveaOfTheFullRateFrame) {
+    REQUIRE_DEVICE();
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness m(*dev, kW, kH, GetParam(), options_for(GetParam()));
+    ASSERT_TRUE(full.ok()) << full.error();
+    ASSERT_TRUE(m.ok()) << m.error();
+    const float gx = 0.4f, gy = 0.55f;
+    Frame ref, out;
+    for (uint64_t f = 0; f < 4; ++f) {  // a few frames: history-based passes settle
+        ref = full.render(f, gx, gy);
+        out = m.render(f, gx, gy);
+    }
+    ASSERT_TRUE(out.finite());
+    const EyeDisplay& d = m.foveator().config().display;
+    const double fovea = psnr_band(out, ref, d, gx * kW, gy * kH, 0.0, 2.0);
+    const double all = psnr_band(out, ref, d, gx * kW, gy * kH, 0.0, 1e9);
+    std::printf("%s: shaded %.3f, foveal (0-2 deg) PSNR %.1f dB, whole frame %.1f dB\n", GetParam(),
+                out.stats.shaded_fraction, fovea, all);
+    EXPECT_LT(out.stats.shaded_fraction, 0.9);
+    EXPECT_GT(out.stats.shaded_fraction, 0.02);
+    EXPECT_GE(fovea, 40.0);
+    EXPECT_GE(all, 20.0);  // the periphery is approximate, but the frame is the same picture
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, MethodGpu, ::testing::Values("layers", "kfr", "adaptive"),
+                         [](const auto& p) { return std::string(p.param); });
+
+// Error of `out` against `ref` (mean over rgb) in pixels selected by `pick`.
+template <typename Pick>
+double mean_error(const Frame& out, const Frame& ref, Pick pick) {
+    double sum = 0;
+    int n = 0;
+    for (uint32_t y = 0; y < out.height; ++y)
+        for (uint32_t x = 0; x < out.width; ++x) {
+            if (!pick(double(x) + 0.5, double(y) + 0.5)) continue;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (std::size_t(y) * out.width + x) * 4 + std::size_t(c);
+                sum += std::abs(double(out.rgba[i]) - double(ref.rgba[i]));
+            }
+            ++n;
+        }
+    return n ? sum / (3.0 * n) : 0.0;
+}
+
+TEST(KfrGpu, NoWrapArtefactAlongTheSeamRay) {
+    // The LP buffer's v wraps where the angle crosses 0/2π: the ray to the right of the gaze.
+    // Its error against the full-rate frame must match that of the ray straight up (mid-buffer).
+    REQUIRE_DEVICE();
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness m(*dev, kW, kH, "kfr");
+    ASSERT_TRUE(m.ok()) << m.error();
+    const double gx = 0.5 * kW, gy = 0.5 * kH;
+    const Frame ref = full.render(0, 0.5f, 0.5f);
+    const Frame out = m.render(0, 0.5f, 0.5f);
+    auto seam = [&](double x, double y) { return x > gx + 10 && x < gx + 80 && std::abs(y - gy) < 1.0; };
+    auto side = [&](double x, double y) { return y < gy - 10 && y > gy - 80 && std::abs(x - gx) < 1.0; };
+    auto below = [&](double x, double y) { return y > gy + 10 && y < gy + 80 && std::abs(x - gx) < 1.0; };
+    const double e_seam = mean_error(out, ref, seam);
+    const double e_ref = std::max(mean_error(out, ref, side), mean_error(out, ref, below));
+    std::printf("kfr seam error %.4f vs %.4f on the vertical rays\n", e_seam, e_ref);
+    EXPECT_LE(e_seam, 1.5 * e_ref + 0.01);
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
+    REQUIRE_DEVICE();
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
+    ASSERT_TRUE(m.ok()) << m.error();
+    Frame ref, out;
+    for (uint64_t f = 0; f < 3; ++f) {
+        ref = full.render(f, 0.5f, 0.5f);
+        out = m.render(f, 0.5f, 0.5f);
+    }
+    // No pixel is left uncovered: the sky and the scene are never black.
+    for (std::size_t i = 0; i < out.rgba.size(); i += 4)
+        ASSERT_GT(out.rgba[i] + out.rgba[i + 1] + out.rgba[i + 2], 0.01f) << "hole at " << i / 4;
+    // Error grows outwards smoothly: the ring across each blend is no worse than the coarser
+    // layer just outside it (a seam would be a spike at the boundary).
+    const double cx = 0.5 * kW, cy = 0.5 * kH;
+    auto ring = [&](double r0, double r1) {
+        return [=](double x, double y) {
+            const double r = std::hypot(x - cx, y - cy);
+            return r >= r0 && r < r1;
+        };
+    };
+    const double e_in = mean_error(out, ref, ring(0, 15));
+    const double e_mid = mean_error(out, ref, ring(15, 60));
+    const double e_out = mean_error(out, ref, ring(60, 200));
+    std::printf("layers ring errors %.4f %.4f %.4f\n", e_in, e_mid, e_out);
+    EXPECT_LE(e_in, e_mid + 1e-3);
+    EXPECT_LE(e_mid, e_out * 1.5 + 1e-3);
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+TEST(AdaptiveGpu, SamplingPatternIsTemporallyStable) {
+    REQUIRE_DEVICE();
+    {
+        // Without brightness adaptation and jitter P depends only on gaze and G-buffer: a
+        // fixation on a static scene picks exactly the same samples every frame.
+        MethodHarness m(*dev, kW, kH, "adaptive", {"adaptive.brightness=0"}, 0);
+        ASSERT_TRUE(m.ok()) << m.error();
+        const Frame a = m.render(0, 0.3f, 0.6f);
+        const Frame b = m.render(1, 0.3f, 0.6f);
+        const Frame c = m.render(2, 0.3f, 0.6f);
+        EXPECT_EQ(a.stats.shaded_samples, b.stats.shaded_samples);
+        EXPECT_EQ(b.stats.shaded_samples, c.stats.shaded_samples);
+        EXPECT_LT(mean_error(b, c, [](double, double) { return true; }), 0.01);
+    }
+    {
+        // With it, S follows the previous frame; once settled the count moves by < 1 %.
+        MethodHarness m(*dev, kW, kH, "adaptive", {}, 0);
+        ASSERT_TRUE(m.ok()) << m.error();
+        Frame prev = m.render(0, 0.3f, 0.6f);
+        for (uint64_t f = 1; f < 8; ++f) {
+            const Frame cur = m.render(f, 0.3f, 0.6f);
+            std::printf("adaptive frame %d: %llu samples\n", int(f),
+                        static_cast<unsigned long long>(cur.stats.shaded_samples));
+            if (f >= 4) {
+                EXPECT_NEAR(double(cur.stats.shaded_samples), double(prev.stats.shaded_samples),
+                            0.01 * double(prev.stats.shaded_samples)) << f;
+            }
+            prev = cur;
+        }
+    }
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+// Gaze sweeping across the screen and jumping (saccades), far off screen and NaN included.
+// FOVEA_LONG_RUN=1 runs the 10^4 frames of the issue; CI runs 240 frames on a tiny frame.
+TEST_P(MethodGpu, GazeSweepAndJumpsStayFiniteAndCovered) {
+    REQUIRE_DEVICE();
+    const bool long_run = std::getenv("FOVEA_LONG_RUN") != nullptr;
+    const int frames = long_run ? 10000 : 240;
+    MethodHarness m(*dev, 64, 36, GetParam(), options_for(GetParam()));
+    ASSERT_TRUE(m.ok()) << m.error();
+    uint64_t bad = 0;
+    for (int f = 0; f < frames; ++f) {
+        float gx, gy;
+        if (f % 50 < 40) {  // smooth sweep
+            gx = 0.5f + 0.48f * std::sin(f * 0.05f);
+            gy = 0.5f + 0.45f * std::cos(f * 0.031f);
+        } else {            // saccadic jumps, corners, off screen, NaN
+            const float jumps[10][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 0}, {0.5f, 0.5f},
+                                        {-2, 0.5f}, {3, 3}, {NAN, 0.5f}, {0.99f, 0.01f}, {0.2f, 0.8f}};
+            gx = jumps[f % 10][0];
+            gy = jumps[f % 10][1];
+        }
+        const Frame out = m.render(uint64_t(f), gx, gy);
+        if (!out.finite()) ++bad;
+        for (std::size_t i = 0; i < out.rgba.size(); i += 4)
+            if (out.rgba[i] + out.rgba[i + 1] + out.rgba[i + 2] <= 0.0f) {
+                ++bad;
+                break;
+            }
+    }
+    EXPECT_EQ(bad, 0u) << "frames with NaN/inf or uncovered pixels";
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+}  // namespace
+}  // namespace fovea::vk::test
