@@ -8,6 +8,9 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2D coarse;
 layout(set = 1, binding = 1, rgba16f) uniform image2D fine;
+// The last push (level 0) writes the method's output instead of the pyramid (no branch on a
+// uniform: llvmpipe would run both stores).
+layout(constant_id = 0) const bool FINAL = false;
 
 vec3 coarse_bilinear(vec2 pos) {
     ivec2 cs = imageSize(coarse) - 1;
@@ -25,7 +28,7 @@ void main() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(t, imageSize(fine)))) return;
     vec4 f = imageLoad(fine, t);
-    vec3 c = f.a >= 1.0 ? f.rgb : f.rgb * f.a + (1.0 - f.a) * coarse_bilinear((vec2(t) + 0.5) * 0.5);
-    imageStore(fine, t, vec4(c, 1.0));
-    if (ad.level == 0) imageStore(fovea_out_color, t, vec4(c, 1.0));
+    vec3 c = f.rgb * f.a + (1.0 - f.a) * coarse_bilinear((vec2(t) + 0.5) * 0.5);
+    if (FINAL) imageStore(fovea_out_color, t, vec4(c, 1.0));
+    else imageStore(fine, t, vec4(c, 1.0));
 }

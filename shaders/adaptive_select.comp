@@ -1,13 +1,13 @@
 #version 450
-// Stengel §5: 3x3 max over the half-resolution map (the 5x5 dilation), then a pixel is a
-// shading sample when its fixed pseudo-random threshold is below P; samples are appended to a
-// compacted list for the indirect shading dispatch. Also writes S_t for every pixel.
+// Stengel §5: a pixel is a shading sample when its fixed pseudo-random threshold is below the
+// dilated P of its 2x2 block; samples are appended to a compacted list for the indirect shading
+// dispatch. Also writes S_t for every pixel.
 #extension GL_GOOGLE_include_directive : require
 #include "fovea_frame.glsl"
 #include "adaptive_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(set = 1, binding = 0, r32f) uniform readonly image2D half_p;
+layout(set = 1, binding = 0, r32f) uniform readonly image2D half_dilated;
 layout(std430, set = 1, binding = 1) buffer SampleList {
     uint dispatch[3];
     uint count;
@@ -17,11 +17,7 @@ layout(std430, set = 1, binding = 1) buffer SampleList {
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, ivec2(fovea_frame.extent)))) return;
-    ivec2 size = imageSize(half_p);
-    float pr = 0.0;
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-            pr = max(pr, imageLoad(half_p, clamp(p / 2 + ivec2(dx, dy), ivec2(0), size - 1)).x);
+    float pr = imageLoad(half_dilated, min(p / 2, imageSize(half_dilated) - 1)).x;
     if (adaptive_threshold(p) < pr) {
         uint slot = atomicAdd(list.count, 1u);
         list.items[slot] = uint(p.x) | (uint(p.y) << 16u);

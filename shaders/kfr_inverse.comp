@@ -1,6 +1,6 @@
 #version 450
 // Meng 2018 pass II: every screen pixel reads the LP buffer at its kernel log-polar coordinate
-// (bilinear, v wrapping across the ±π seam) with 4 rotated-grid sub-samples as anti-aliasing.
+// (bilinear, v wrapping across the ±π seam); anti-aliasing comes from the LP-space prefilter.
 #extension GL_GOOGLE_include_directive : require
 #include "fovea_frame.glsl"
 #include "kfr_map.glsl"
@@ -25,12 +25,12 @@ vec4 lp_bilinear(vec2 lp) {
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, ivec2(kfr.screen)))) return;
-    const vec2 kOffsets[4] = vec2[](vec2(0.125, 0.375), vec2(0.375, -0.125),
-                                    vec2(-0.125, -0.375), vec2(-0.375, 0.125));
-    vec4 sum = vec4(0.0);
-    for (int i = 0; i < 4; ++i) sum += lp_bilinear(kfr_forward(vec2(p) + 0.5 + kOffsets[i]));
-    vec3 c = sum.a > 0.0 ? sum.rgb / sum.a : vec3(0.0);
-    float fp = kfr_texel_footprint(kfr_forward(vec2(p) + 0.5).x);
-    imageStore(fovea_out_color, p, vec4(c, 1.0));
-    imageStore(fovea_out_rate, p, vec4(clamp(log2(max(fp, 1.0)) * 0.5, 0.0, 1.0)));
+    vec2 jx, jy;
+    float radial, angular;
+    vec2 lp = kfr_forward_jacobian(vec2(p) + 0.5, jx, jy, radial, angular);
+    // One bilinear tap: the minified region near the gaze was prefiltered along v in LP space
+    // (kfr_blur.comp), and where LP texels are larger than a pixel bilinear is already smooth.
+    vec4 c = lp_bilinear(lp);
+    imageStore(fovea_out_color, p, vec4(c.a > 0.0 ? c.rgb / c.a : vec3(0.0), 1.0));
+    imageStore(fovea_out_rate, p, vec4(clamp(log2(max(max(radial, angular), 1.0)) * 0.5, 0.0, 1.0)));
 }

@@ -4,7 +4,7 @@
 #define LAYERS_COMMON_GLSL
 
 struct LayerInfo {
-    vec4 a;  // origin.xy (full-resolution pixels of the layer's top-left corner), s, history index
+    vec4 a;  // origin.xy (full-resolution pixels of the layer's top-left corner), s, unused
     vec4 b;  // size in layer texels (w, h), mask radius in pixels (0: the outer layer), unused
 };
 

@@ -10,6 +10,7 @@ layout(set = 0, binding = 0, rgba16f) uniform readonly image2D current;
 layout(set = 0, binding = 1, rg16f) uniform readonly image2D motion;   // layer G-buffer motion
 layout(set = 0, binding = 2, rgba16f) uniform readonly image2D history_in;
 layout(set = 0, binding = 3, rgba16f) uniform writeonly image2D history_out;
+layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D composite_in;  // fixed per layer
 
 layout(push_constant) uniform ResolvePush {
     vec2 origin;       // this frame's layer origin, display pixels
@@ -66,4 +67,5 @@ void main() {
         }
     }
     imageStore(history_out, t, vec4(result.rgb, 1.0));
+    imageStore(composite_in, t, vec4(result.rgb, 1.0));
 }

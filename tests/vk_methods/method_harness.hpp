@@ -128,7 +128,7 @@ public:
                 const uint8_t a[4] = {uint8_t(alb.x * 255 + 0.5), uint8_t(alb.y * 255 + 0.5),
                                       uint8_t(alb.z * 255 + 0.5), 255};
                 std::memcpy(&out[2][i * 4], a, 4);
-                const uint16_t mh[4] = {to_half(mat), 0, 0, 0};
+                const uint16_t mh[4] = {to_half(mat), to_half(mat > 1 ? 0.3f : 0.8f), 0, 0};
                 std::memcpy(&out[3][i * 8], mh, 8);
                 const float depth = hit ? float(1.0 - 0.1 / std::max(t, 0.1)) : 1.0f;
                 std::memcpy(&out[4][i * 4], &depth, 4);
@@ -146,6 +146,7 @@ struct Frame {
     uint32_t width = 0, height = 0;
     std::vector<float> rgba;  // linear, 4 per pixel
     FrameStats stats;
+    double wall_ms = 0;  // render_blocking: upload + method + submit/wait
     bool finite() const {
         return std::all_of(rgba.begin(), rgba.end(), [](float v) { return std::isfinite(v); });
     }
@@ -155,17 +156,19 @@ struct Frame {
 class MethodHarness {
 public:
     MethodHarness(Device& device, uint32_t w, uint32_t h, std::string method,
-                  std::vector<std::string> options = {}, uint32_t jitter_length = 8)
+                  std::vector<std::string> options = {}, uint32_t jitter_length = 8,
+                  std::string shading = kTestShading, bool native_display = false)
         : device_(device) {
         FoveatorConfig c;
         c.extent = {w, h};
         c.jitter_length = jitter_length;
         // The pixel density of a 24" 1080p monitor at 60 cm on a smaller frame.
         const EyeDisplay desk = EyeDisplay::desktop_1080p();
-        c.display = EyeDisplay::from_fov(w, h, desk.fov_h_deg * w / desk.width_px,
-                                         desk.fov_v_deg * h / desk.height_px);
+        c.display = native_display ? desk
+                                   : EyeDisplay::from_fov(w, h, desk.fov_h_deg * w / desk.width_px,
+                                                          desk.fov_v_deg * h / desk.height_px);
         c.method = std::move(method);
-        c.shading_glsl = kTestShading;
+        c.shading_glsl = std::move(shading);
         c.options = std::move(options);
         auto f = Foveator::create(device, c);
         if (!f) {
@@ -208,7 +211,7 @@ public:
             for (const auto& d : u.data) total += (d.size() + 15) / 16 * 16;
         Buffer staging(device_, std::max<VkDeviceSize>(total, 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                        true);
-        foveator_->render_blocking(frame, in, [&](VkCommandBuffer cmd) {
+        const double wall = foveator_->render_blocking(frame, in, [&](VkCommandBuffer cmd) {
             VkDeviceSize offset = 0;
             for (const Upload& u : uploads)
                 for (int i = 0; i < 6; ++i) {
@@ -227,6 +230,7 @@ public:
         f.width = c.extent.width;
         f.height = c.extent.height;
         f.stats = foveator_->stats();
+        f.wall_ms = wall;
         const std::vector<uint8_t> raw = device_.read_image(foveator_->shaded());
         f.rgba.resize(raw.size() / 2);
         for (std::size_t i = 0; i < f.rgba.size(); ++i) {

@@ -1,7 +1,8 @@
 // Method "adaptive": Stengel et al. 2016 adaptive image-space sampling. Per frame: exposure
-// update (Eq. 10) -> sampling probability (Eqs. 1–12) max-reduced to half resolution -> 3x3
-// max there (the 5x5 dilation) and a fixed-pattern threshold appending samples to a compacted
-// list -> indirect dispatch shading only those samples -> pull-push fill (Gortler 1996).
+// update (Eq. 10) -> sampling probability (Eqs. 1–12) per 2x2 block into a half-resolution map
+// -> 3x3 max there (the 5x5 dilation) -> a fixed-pattern threshold appending samples to a
+// compacted list -> indirect dispatch shading only those samples -> pull-push fill (Gortler
+// 1996). Every pass is straight-line code: llvmpipe pays for both sides of a branch.
 // Options (FoveatorConfig::options): adaptive.omega0 (1.1715), adaptive.slope (-2.45),
 // adaptive.omega_p (0.02), adaptive.gamma (20), adaptive.t_dark (0.15), adaptive.t_bright (0.9),
 // adaptive.rate (0.05), adaptive.exposure_target (0.5), adaptive.depth_step (0.05),
@@ -89,6 +90,7 @@ public:
         const VkExtent2D half{std::max(1u, div_up(extent_.width, 2)),
                               std::max(1u, div_up(extent_.height, 2))};
         half_p_ = Image(ctx.device, half, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
+        half_dilated_ = Image(ctx.device, half, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
         // A full mip chain is shorter than kMaxLevels on tiny frames.
         levels_ = std::min(kMaxLevels, uint32_t(std::floor(std::log2(std::max(
                                            extent_.width, extent_.height)))) + 1);
@@ -117,7 +119,11 @@ public:
         select_pass_ = ctx.builtin_pipeline("adaptive_select.comp", select_b, kPush, true);
         args_pass_ = ctx.builtin_pipeline("adaptive_args.comp", args_b, 0, true);
         pull_pass_ = ctx.builtin_pipeline("adaptive_pull.comp", two_img, kPush, true);
-        push_pass_ = ctx.builtin_pipeline("adaptive_push.comp", two_img, kPush, true);
+        const uint32_t not_final[] = {0u};
+        const uint32_t final_level[] = {1u};
+        push_pass_ = ctx.builtin_pipeline("adaptive_push.comp", two_img, kPush, true, not_final);
+        push_final_ = ctx.builtin_pipeline("adaptive_push.comp", two_img, kPush, true, final_level);
+        dilate_pass_ = ctx.builtin_pipeline("adaptive_dilate.comp", two_img, 0, false);
         auto shade = ctx.shading_pipeline("adaptive_shade.shade.comp", shade_b, 0);
         if (!shade) return shade.error();
         shade_pass_ = std::move(*shade);
@@ -131,8 +137,16 @@ public:
             .storage_buffer(1, exposure_)
             .storage_image(2, half_p_.view())
             .commit();
+        dilate_set_ = dilate_pass_.allocate_set();
+        DescriptorWriter(dev, dilate_set_)
+            .storage_image(0, half_p_.view())
+            .storage_image(1, half_dilated_.view())
+            .commit();
         select_set_ = select_pass_.allocate_set();
-        DescriptorWriter(dev, select_set_).storage_image(0, half_p_.view()).storage_buffer(1, list_).commit();
+        DescriptorWriter(dev, select_set_)
+            .storage_image(0, half_dilated_.view())
+            .storage_buffer(1, list_)
+            .commit();
         args_set_ = args_pass_.allocate_set();
         DescriptorWriter(dev, args_set_).storage_buffer(0, list_).commit();
         shade_set_ = shade_pass_.allocate_set();
@@ -143,7 +157,7 @@ public:
                 .storage_image(0, pyramid_.mip_view(l))
                 .storage_image(1, pyramid_.mip_view(l + 1))
                 .commit();
-            push_sets_[l] = push_pass_.allocate_set();
+            push_sets_[l] = (l == 0 ? push_final_ : push_pass_).allocate_set();
             DescriptorWriter(dev, push_sets_[l])
                 .storage_image(0, pyramid_.mip_view(l + 1))
                 .storage_image(1, pyramid_.mip_view(l))
@@ -188,6 +202,9 @@ public:
         prob_pass_.bind(cmd, f.frame_set, prob_set_, &push, sizeof(push));
         vkCmdDispatch(cmd, div_up(half.width, 8), div_up(half.height, 8), 1);
         compute_barrier(cmd);
+        dilate_pass_.bind(cmd, VK_NULL_HANDLE, dilate_set_);
+        vkCmdDispatch(cmd, div_up(half.width, 8), div_up(half.height, 8), 1);
+        compute_barrier(cmd);
         select_pass_.bind(cmd, f.frame_set, select_set_, &push, sizeof(push));
         vkCmdDispatch(cmd, div_up(extent_.width, 8), div_up(extent_.height, 8), 1);
         compute_barrier(cmd);
@@ -208,7 +225,8 @@ public:
         for (uint32_t l = levels_ - 1; l-- > 0;) {
             push.level = int32_t(l);
             const VkExtent2D e = level_extent(l);
-            push_pass_.bind(cmd, f.frame_set, push_sets_[l], &push, sizeof(push));
+            (l == 0 ? push_final_ : push_pass_).bind(cmd, f.frame_set, push_sets_[l], &push,
+                                                     sizeof(push));
             vkCmdDispatch(cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
             if (l > 0) compute_barrier(cmd);
         }
@@ -244,14 +262,15 @@ private:
     double last_time_ = 0.0;
     methods::Vec2f64 last_gaze_;
     Image half_p_;
+    Image half_dilated_;
     Image pyramid_;
     Buffer list_;
     Buffer exposure_;
     ComputePipeline exposure_pass_, prob_pass_, select_pass_, args_pass_, shade_pass_;
-    ComputePipeline pull_pass_, push_pass_;
+    ComputePipeline pull_pass_, push_pass_, push_final_, dilate_pass_;
     VkDescriptorSet exposure_set_ = VK_NULL_HANDLE, prob_set_ = VK_NULL_HANDLE;
     VkDescriptorSet select_set_ = VK_NULL_HANDLE, args_set_ = VK_NULL_HANDLE;
-    VkDescriptorSet shade_set_ = VK_NULL_HANDLE;
+    VkDescriptorSet shade_set_ = VK_NULL_HANDLE, dilate_set_ = VK_NULL_HANDLE;
     uint32_t levels_ = kMaxLevels;
     std::array<VkDescriptorSet, kMaxLevels> pull_sets_{};
     std::array<VkDescriptorSet, kMaxLevels> push_sets_{};

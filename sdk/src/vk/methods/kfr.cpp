@@ -22,7 +22,8 @@ struct KfrPush {  // shaders/kfr_map.glsl
     float exponent;
     int32_t betas;
     float blur_u0;
-    float pad[2];
+    float aa_u1;
+    float pad;
     float beta[8];
 };
 static_assert(sizeof(KfrPush) == 80, "push layout");
@@ -65,11 +66,14 @@ public:
         const Binding one_image[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
         const Binding two_images[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                       {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
-        auto forward = ctx.shading_pipeline("kfr_forward.shade.comp", one_image, sizeof(KfrPush));
+        // KFR_POLY as a specialization constant: the unused kernel is compiled out.
+        const uint32_t spec[] = {kernel_.is_power() ? 0u : 1u};
+        auto forward = ctx.shading_pipeline("kfr_forward.shade.comp", one_image, sizeof(KfrPush),
+                                            {}, spec);
         if (!forward) return forward.error();
         forward_ = std::move(*forward);
-        blur_ = ctx.builtin_pipeline("kfr_blur.comp", two_images, sizeof(KfrPush), false);
-        inverse_ = ctx.builtin_pipeline("kfr_inverse.comp", one_image, sizeof(KfrPush), true);
+        blur_ = ctx.builtin_pipeline("kfr_blur.comp", two_images, sizeof(KfrPush), false, spec);
+        inverse_ = ctx.builtin_pipeline("kfr_inverse.comp", one_image, sizeof(KfrPush), true, spec);
 
         const VkDevice dev = ctx.device.device();
         forward_set_ = forward_.allocate_set();
@@ -101,6 +105,9 @@ public:
         push.betas = b.empty() ? 0 : int32_t(b.size() - 1);
         for (std::size_t i = 1; i < b.size(); ++i) push.beta[i - 1] = float(b[i]);
         push.blur_u0 = float(blur_start(map));
+        // Around the gaze, LP rows are closer than a pixel along the circle for r < h / 2π.
+        const methods::Vec2d g = map.gaze();
+        push.aa_u1 = float(map.forward({g.x + lp_extent_.height / (2.0 * 3.14159265358979), g.y}).x);
 
         const uint32_t gx = div_up(lp_extent_.width, 8);
         const uint32_t gy = div_up(lp_extent_.height, 8);

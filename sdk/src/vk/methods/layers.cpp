@@ -59,6 +59,7 @@ struct LayerState {
     GBufferRefs refs;
     Image current;
     std::array<Image, 2> history;
+    Image resolved;          // latest resolve, read by the composite (fixed binding)
     int which = 0;           // history image holding the latest resolve
     bool has_history = false;
     double origin[2]{0, 0};       // of this frame's request
@@ -117,18 +118,19 @@ public:
             st.current = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
             for (Image& h : st.history)
                 h = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+            st.resolved = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
         }
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding shade_b[] = {img, img, img, img, img, img, img};
-        const Binding resolve_b[] = {img, img, img, img};
-        const Binding composite_b[] = {img, img, img, img, img, img, img, img,
-                                       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+        const Binding resolve_b[] = {img, img, img, img, img};
+        const Binding composite_b[] = {img, img, img, img, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
         auto shade = ctx.shading_pipeline("layers_shade.shade.comp", shade_b, sizeof(ShadePush));
         if (!shade) return shade.error();
         shade_ = std::move(*shade);
         resolve_ = ctx.builtin_pipeline("layers_resolve.comp", resolve_b, sizeof(ResolvePush), false);
-        composite_ = ctx.builtin_pipeline("layers_composite.comp", composite_b, 0, true);
+        const uint32_t spec[] = {uint32_t(count_)};  // LAYERS: straight-line composite code
+        composite_ = ctx.builtin_pipeline("layers_composite.comp", composite_b, 0, true, spec);
         table_ = Buffer(ctx.device, sizeof(LayerTable), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
 
         const VkDevice dev = ctx.device.device();
@@ -146,18 +148,17 @@ public:
                     .storage_image(1, st.gbuffer[static_cast<int>(GBufferImage::kMotion)].view())
                     .storage_image(2, st.history[std::size_t(k)].view())
                     .storage_image(3, st.history[std::size_t(1 - k)].view())
+                    .storage_image(4, st.resolved.view())
                     .commit();
             }
         }
         composite_set_ = composite_.allocate_set();
         DescriptorWriter w(dev, composite_set_);
-        for (int i = 0; i < kMaxLayers; ++i) {
-            // Unused slots repeat the outer layer: every binding must hold a valid image.
-            const LayerState& st = layers_[std::size_t(std::min(i, count_ - 1))];
-            w.storage_image(uint32_t(2 * i), st.history[0].view());
-            w.storage_image(uint32_t(2 * i + 1), st.history[1].view());
-        }
-        w.storage_buffer(8, table_).commit();
+        for (int i = 0; i < 3; ++i)  // unused inner slots repeat the outer layer (valid image)
+            w.storage_image(uint32_t(i), layers_[std::size_t(i < count_ - 1 ? i : count_ - 1)]
+                                             .resolved.view());
+        w.storage_image(3, layers_[std::size_t(count_ - 1)].resolved.view());
+        w.storage_buffer(4, table_).commit();
         return {};
     }
 
@@ -231,7 +232,7 @@ public:
             g.a[0] = float(st.prev_origin[0]);
             g.a[1] = float(st.prev_origin[1]);
             g.a[2] = float(st.s);
-            g.a[3] = float(st.which);
+
             g.b[0] = float(st.texels.width);
             g.b[1] = float(st.texels.height);
             g.b[2] = float(st.radius_px);
