@@ -7,7 +7,11 @@
 
 layout(local_size_x = 256) in;
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2D prev_low;
-layout(std430, set = 1, binding = 1) buffer Exposure { float exposure; float l_avg; float pad[2]; } ex;
+layout(std430, set = 1, binding = 1) buffer Exposure {
+    float exposure;
+    float l_avg;
+    float pad[2];
+} ex;
 
 shared float s_sum[256];
 shared float s_w[256];

@@ -11,7 +11,11 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2D prev_low;
-layout(std430, set = 1, binding = 1) readonly buffer Exposure { float exposure; float l_avg; float pad[2]; } ex;
+layout(std430, set = 1, binding = 1) readonly buffer Exposure {
+    float exposure;
+    float l_avg;
+    float pad[2];
+} ex;
 layout(set = 1, binding = 2, r32f) uniform writeonly image2D half_p;
 
 // Silhouette and texture response between two adjacent pixels.

@@ -28,7 +28,8 @@ void main() {
             ivec2 px = ivec2(q);
             FoveaGSample g = fovea_load_gsample(px);
             float s_t = clamp(log2(fp) * 0.5, 0.0, 1.0);
-            c = vec4(fovea_shade(g, fovea_make_footprint(vec2(px) + 0.5, fp, g.distance, s_t)), 1.0);
+            FoveaFootprint f = fovea_make_footprint(vec2(px) + 0.5, fp, g.distance, s_t);
+            c = vec4(fovea_shade(g, f), 1.0);
             atomicAdd(group_shaded, 1u);
         }
         imageStore(lp_out, t, c);

@@ -32,5 +32,6 @@ void main() {
     // (kfr_blur.comp), and where LP texels are larger than a pixel bilinear is already smooth.
     vec4 c = lp_bilinear(lp);
     imageStore(fovea_out_color, p, vec4(c.a > 0.0 ? c.rgb / c.a : vec3(0.0), 1.0));
-    imageStore(fovea_out_rate, p, vec4(clamp(log2(max(max(radial, angular), 1.0)) * 0.5, 0.0, 1.0)));
+    float s_t = clamp(log2(max(max(radial, angular), 1.0)) * 0.5, 0.0, 1.0);
+    imageStore(fovea_out_rate, p, vec4(s_t));
 }

@@ -23,7 +23,9 @@ layout(push_constant) uniform ResolvePush {
     vec2 view_jitter;  // the jitter the host rendered this layer with, layer texels
 } rp;
 
-vec4 load_clamped(ivec2 t) { return imageLoad(current, clamp(t, ivec2(0), imageSize(current) - 1)); }
+vec4 load_clamped(ivec2 t) {
+    return imageLoad(current, clamp(t, ivec2(0), imageSize(current) - 1));
+}
 
 vec4 bilinear_current(vec2 f) {
     ivec2 b = ivec2(floor(f));
@@ -52,9 +54,11 @@ void main() {
             ivec2 hb = ivec2(floor(h));
             vec2 w = h - vec2(hb);
             ivec2 hmax = size - 1;
-            vec4 hist = mix(mix(imageLoad(history_in, hb), imageLoad(history_in, min(hb + ivec2(1, 0), hmax)), w.x),
-                            mix(imageLoad(history_in, min(hb + ivec2(0, 1), hmax)),
-                                imageLoad(history_in, min(hb + ivec2(1, 1), hmax)), w.x), w.y);
+            vec4 h00 = imageLoad(history_in, hb);
+            vec4 h10 = imageLoad(history_in, min(hb + ivec2(1, 0), hmax));
+            vec4 h01 = imageLoad(history_in, min(hb + ivec2(0, 1), hmax));
+            vec4 h11 = imageLoad(history_in, min(hb + ivec2(1, 1), hmax));
+            vec4 hist = mix(mix(h00, h10, w.x), mix(h01, h11, w.x), w.y);
             vec4 lo = cur, hi = cur;
             ivec2 c = ivec2(floor(vec2(t) - rp.jitter + 0.5));
             for (int dy = -1; dy <= 1; ++dy)

@@ -23,13 +23,15 @@ namespace fovea::vk::test {
 
 inline const char* kTestShading = R"GLSL(
 vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) {
-    if (g.background) return mix(vec3(0.55, 0.65, 0.85), vec3(0.15, 0.25, 0.6), clamp(g.normal.y, 0.0, 1.0));
+    if (g.background)
+        return mix(vec3(0.55, 0.65, 0.85), vec3(0.15, 0.25, 0.6), clamp(g.normal.y, 0.0, 1.0));
     vec3 l = normalize(vec3(0.3, 0.8, 0.5));
     vec3 v = normalize(fovea_frame.camera_pos.xyz - g.position);
     vec3 h = normalize(l + v);
     float stripes = 0.5 + 0.5 * sin(g.position.x * 9.0) * exp(-fp.world_size * 4.0);
     vec3 base = g.albedo * (0.75 + 0.25 * stripes);
-    return base * (0.15 + max(dot(g.normal, l), 0.0)) + vec3(0.6) * pow(max(dot(g.normal, h), 0.0), 40.0);
+    float spec = pow(max(dot(g.normal, h), 0.0), 40.0);
+    return base * (0.15 + max(dot(g.normal, l), 0.0)) + vec3(0.6) * spec;
 }
 )GLSL";
 

@@ -2,8 +2,8 @@
 // the same frames and gaze trace, with the demo's expensive shading function
 // (shaders/demo_shading.glsl) on this directory's analytic test scene. Prints a table and CSV.
 //   vk_methods_bench [--width 1920 --height 1080 --frames 10 --shading demo|test]
-// Time is the method's GPU time (timestamps) per frame; every configuration renders each frame
-// back to back and the speed-up is the median over frames of full/method (same machine load). PSNR/SSIM per eccentricity band
+// Time is the method's GPU time (timestamps) per frame; every configuration renders each
+// frame back to back and the speed-up is the median over frames of full/method (same load). PSNR/SSIM per eccentricity band
 // (acuity.hpp kBandEdgesDeg) averaged over the frames.
 #include <algorithm>
 #include <cmath>

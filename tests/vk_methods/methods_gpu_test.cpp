@@ -98,9 +98,15 @@ TEST(KfrGpu, NoWrapArtefactAlongTheSeamRay) {
     const double gx = 0.5 * kW, gy = 0.5 * kH;
     const Frame ref = full.render(0, 0.5f, 0.5f);
     const Frame out = m.render(0, 0.5f, 0.5f);
-    auto seam = [&](double x, double y) { return x > gx + 10 && x < gx + 80 && std::abs(y - gy) < 1.0; };
-    auto side = [&](double x, double y) { return y < gy - 10 && y > gy - 80 && std::abs(x - gx) < 1.0; };
-    auto below = [&](double x, double y) { return y > gy + 10 && y < gy + 80 && std::abs(x - gx) < 1.0; };
+    auto seam = [&](double x, double y) {
+        return x > gx + 10 && x < gx + 80 && std::abs(y - gy) < 1.0;
+    };
+    auto side = [&](double x, double y) {
+        return y < gy - 10 && y > gy - 80 && std::abs(x - gx) < 1.0;
+    };
+    auto below = [&](double x, double y) {
+        return y > gy + 10 && y < gy + 80 && std::abs(x - gx) < 1.0;
+    };
     const double e_seam = mean_error(out, ref, seam);
     const double e_ref = std::max(mean_error(out, ref, side), mean_error(out, ref, below));
     std::printf("kfr seam error %.4f vs %.4f on the vertical rays\n", e_seam, e_ref);
@@ -187,8 +193,9 @@ TEST_P(MethodGpu, GazeSweepAndJumpsStayFiniteAndCovered) {
             gx = 0.5f + 0.48f * std::sin(f * 0.05f);
             gy = 0.5f + 0.45f * std::cos(f * 0.031f);
         } else {            // saccadic jumps, corners, off screen, NaN
-            const float jumps[10][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 0}, {0.5f, 0.5f},
-                                        {-2, 0.5f}, {3, 3}, {NAN, 0.5f}, {0.99f, 0.01f}, {0.2f, 0.8f}};
+            const float jumps[10][2] = {{0, 0},         {1, 1},      {0, 1}, {1, 0},
+                                        {0.5f, 0.5f},   {-2, 0.5f},  {3, 3}, {NAN, 0.5f},
+                                        {0.99f, 0.01f}, {0.2f, 0.8f}};
             gx = jumps[f % 10][0];
             gy = jumps[f % 10][1];
         }

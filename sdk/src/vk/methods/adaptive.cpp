@@ -47,8 +47,8 @@ struct AdaptivePush {  // shaders/adaptive_common.glsl
 static_assert(sizeof(AdaptivePush) == 112, "push layout");
 static_assert(offsetof(AdaptivePush, light) == 96, "std430: vec4 aligned to 16");
 
-// Pyramid depth: at most 7 pull steps (1/128 resolution) suffice because the ω_p floor (0.02) puts ~5
-// samples in every 16x16 block; the pipelines' descriptor pools hold 8 sets.
+// Pyramid depth: at most 7 pull steps (1/128 resolution) suffice because the ω_p floor (0.02)
+// puts ~5 samples in every 16x16 block; the pipelines' descriptor pools hold 8 sets.
 constexpr uint32_t kMaxLevels = 8;
 constexpr uint32_t kLuminanceLevel = 3;  // Stengel: brightness from a low-resolution frame
 // A gaze step faster than this is a saccade: the eye lands and fixates, so the gaze segment and
@@ -130,7 +130,10 @@ public:
 
         const VkImageView low = pyramid_.mip_view(std::min(kLuminanceLevel, levels_ - 1));
         exposure_set_ = exposure_pass_.allocate_set();
-        DescriptorWriter(dev, exposure_set_).storage_image(0, low).storage_buffer(1, exposure_).commit();
+        DescriptorWriter(dev, exposure_set_)
+            .storage_image(0, low)
+            .storage_buffer(1, exposure_)
+            .commit();
         prob_set_ = prob_pass_.allocate_set();
         DescriptorWriter(dev, prob_set_)
             .storage_image(0, low)
@@ -150,7 +153,10 @@ public:
         args_set_ = args_pass_.allocate_set();
         DescriptorWriter(dev, args_set_).storage_buffer(0, list_).commit();
         shade_set_ = shade_pass_.allocate_set();
-        DescriptorWriter(dev, shade_set_).storage_buffer(0, list_).storage_image(1, pyramid_.mip_view(0)).commit();
+        DescriptorWriter(dev, shade_set_)
+            .storage_buffer(0, list_)
+            .storage_image(1, pyramid_.mip_view(0))
+            .commit();
         for (uint32_t l = 0; l + 1 < levels_; ++l) {
             pull_sets_[l] = pull_pass_.allocate_set();
             DescriptorWriter(dev, pull_sets_[l])

@@ -10,7 +10,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kRadToDeg = 180.0 / kPi;
 
-double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 }  // namespace
 
 Vec2f64 angular_position(Vec2f64 pixel, const ScreenFov& s) {
@@ -36,8 +38,8 @@ double eccentricity_to_gaze_line_deg(Vec2f64 pixel, Vec2f64 gaze_prev, Vec2f64 g
     const double aby = b.y - a.y;
     const double len2 = abx * abx + aby * aby;
     // A fixation (len2 = 0) degenerates to the point distance of Eq. 3.
-    const double t = len2 > 0.0 ? std::clamp(((p.x - a.x) * abx + (p.y - a.y) * aby) / len2, 0.0, 1.0)
-                                : 0.0;
+    const double t =
+        len2 > 0.0 ? std::clamp(((p.x - a.x) * abx + (p.y - a.y) * aby) / len2, 0.0, 1.0) : 0.0;
     return std::hypot(p.x - (a.x + t * abx), p.y - (a.y + t * aby));
 }
 

@@ -86,7 +86,9 @@ struct ProbabilityMap {
     int width = 0;
     int height = 0;
     std::vector<float> values;
-    float at(int x, int y) const { return values[std::size_t(y) * std::size_t(width) + std::size_t(x)]; }
+    float at(int x, int y) const {
+        return values[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+    }
 };
 
 // §5: the 5×5 dilation computed cheaply: max-reduce 2×2 blocks to half resolution, 3×3 max

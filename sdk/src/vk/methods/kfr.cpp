@@ -107,7 +107,8 @@ public:
         push.blur_u0 = float(blur_start(map));
         // Around the gaze, LP rows are closer than a pixel along the circle for r < h / 2π.
         const methods::Vec2d g = map.gaze();
-        push.aa_u1 = float(map.forward({g.x + lp_extent_.height / (2.0 * 3.14159265358979), g.y}).x);
+        push.aa_u1 =
+            float(map.forward({g.x + lp_extent_.height / (2.0 * 3.14159265358979), g.y}).x);
 
         const uint32_t gx = div_up(lp_extent_.width, 8);
         const uint32_t gy = div_up(lp_extent_.height, 8);

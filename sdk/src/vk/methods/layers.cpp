@@ -128,7 +128,8 @@ public:
         auto shade = ctx.shading_pipeline("layers_shade.shade.comp", shade_b, sizeof(ShadePush));
         if (!shade) return shade.error();
         shade_ = std::move(*shade);
-        resolve_ = ctx.builtin_pipeline("layers_resolve.comp", resolve_b, sizeof(ResolvePush), false);
+        resolve_ =
+            ctx.builtin_pipeline("layers_resolve.comp", resolve_b, sizeof(ResolvePush), false);
         const uint32_t spec[] = {uint32_t(count_)};  // LAYERS: straight-line composite code
         composite_ = ctx.builtin_pipeline("layers_composite.comp", composite_b, 0, true, spec);
         table_ = Buffer(ctx.device, sizeof(LayerTable), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
