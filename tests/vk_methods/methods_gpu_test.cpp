@@ -114,6 +114,25 @@ TEST(KfrGpu, NoWrapArtefactAlongTheSeamRay) {
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
 
+TEST(KfrGpu, PolynomialKernelAndBadOptions) {
+    REQUIRE_DEVICE();
+    // The general kernel of Eq. 9 (compiled in through the KFR_POLY specialization constant).
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness poly(*dev, kW, kH, "kfr", {"kfr.betas=0.1,0,0.4,0.5"});
+    ASSERT_TRUE(poly.ok()) << poly.error();
+    const Frame ref = full.render(0, 0.6f, 0.4f);
+    const Frame out = poly.render(0, 0.6f, 0.4f);
+    ASSERT_TRUE(out.finite());
+    const EyeDisplay& d = poly.foveator().config().display;
+    EXPECT_GE(psnr_band(out, ref, d, 0.6f * kW, 0.4f * kH, 0.0, 1e9), 25.0);
+    // A kernel that is not increasing, or K(1) != 1, is refused with a message.
+    MethodHarness bad(*dev, kW, kH, "kfr", {"kfr.betas=0.5,-0.5"});
+    EXPECT_FALSE(bad.ok());
+    MethodHarness bad_sigma(*dev, kW, kH, "kfr", {"kfr.sigma=0.5"});
+    EXPECT_FALSE(bad_sigma.ok());
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
 TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
     REQUIRE_DEVICE();
     MethodHarness full(*dev, kW, kH, "full");
