@@ -6,6 +6,7 @@
 struct LayerInfo {
     vec4 a;  // origin.xy (full-resolution pixels of the layer's top-left corner), s, unused
     vec4 b;  // size in layer texels (w, h), mask radius in pixels (0: the outer layer), unused
+    vec4 c;  // mask centre (the gaze the layer was rendered for), pixels; zw unused
 };
 
 // Smoothstep blend of an inner layer (Fig. 3): weight 1 inside 60 % of its radius, 0 at the

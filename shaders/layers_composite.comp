@@ -50,8 +50,7 @@ vec3 blend(Tap t, vec4 c00, vec4 c10, vec4 c01, vec4 c11) {
           imageLoad(img, tap.t11))
 
 float layer_weight(LayerInfo l, vec2 pc) {
-    vec2 centre = l.a.xy + 0.5 * l.b.xy * l.a.z;
-    return layers_mask(length(pc - centre), l.b.z);
+    return layers_mask(length(pc - l.c.xy), l.b.z);
 }
 
 void main() {

@@ -164,6 +164,33 @@ TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
 
+TEST(LayersGpu, GazeAtTheCornerKeepsFullRateFoveaWithCropsOnScreen) {
+    REQUIRE_DEVICE();
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
+    ASSERT_TRUE(m.ok()) << m.error();
+    const float gx = 0.02f, gy = 0.97f;
+    FrameInputs in;
+    in.gaze.x = gx;
+    in.gaze.y = gy;
+    const std::vector<ViewRequest> views = m.foveator().views(0, in);
+    ASSERT_GE(views.size(), 2u);
+    // Inner layers are shifted onto the display; the outer one covers it whole (its last texel
+    // may overhang by less than one layer texel: ceil(W / s) texels).
+    for (std::size_t i = 0; i + 1 < views.size(); ++i) {
+        const ViewRequest& v = views[i];
+        EXPECT_GE(v.crop[0], 0.0f);
+        EXPECT_GE(v.crop[1], 0.0f);
+        EXPECT_LE(v.crop[2], 1.0f + 1e-6f);
+        EXPECT_LE(v.crop[3], 1.0f + 1e-6f);
+    }
+    const Frame ref = full.render(0, gx, gy);
+    const Frame out = m.render(0, gx, gy);
+    const EyeDisplay& d = m.foveator().config().display;
+    EXPECT_GE(psnr_band(out, ref, d, gx * kW, gy * kH, 0.0, 1.0), 40.0);
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
 TEST(AdaptiveGpu, SamplingPatternIsTemporallyStable) {
     REQUIRE_DEVICE();
     {

@@ -42,6 +42,7 @@ struct ResolvePush {  // shaders/layers_resolve.comp
 struct LayerInfoGpu {  // shaders/layers_common.glsl LayerInfo
     float a[4];
     float b[4];
+    float c[4];
 };
 struct LayerTable {
     int32_t count;
@@ -49,7 +50,7 @@ struct LayerTable {
     LayerInfoGpu layer[kMaxLayers];
 };
 static_assert(sizeof(ShadePush) == 32 && sizeof(ResolvePush) == 48, "push layouts");
-static_assert(sizeof(LayerTable) == 16 + 32 * kMaxLayers, "std430 layout");
+static_assert(sizeof(LayerTable) == 16 + 48 * kMaxLayers, "std430 layout");
 
 struct LayerState {
     double s = 1.0;
@@ -64,6 +65,8 @@ struct LayerState {
     bool has_history = false;
     double origin[2]{0, 0};       // of this frame's request
     double prev_origin[2]{0, 0};  // of the latest resolve
+    double centre[2]{0, 0};       // mask centre: the gaze of this frame's request
+    double prev_centre[2]{0, 0};  // of the latest resolve
     float jitter[2]{0, 0};
     uint64_t planned_frame = UINT64_MAX;
     bool due = false;
@@ -224,6 +227,8 @@ public:
             st.has_history = true;
             st.prev_origin[0] = st.origin[0];
             st.prev_origin[1] = st.origin[1];
+            st.prev_centre[0] = st.centre[0];
+            st.prev_centre[1] = st.centre[1];
         }
         LayerTable table{};
         table.count = count_;
@@ -237,6 +242,8 @@ public:
             g.b[0] = float(st.texels.width);
             g.b[1] = float(st.texels.height);
             g.b[2] = float(st.radius_px);
+            g.c[0] = float(st.prev_centre[0]);
+            g.c[1] = float(st.prev_centre[1]);
         }
         std::memcpy(table_.data(), &table, sizeof(table));  // one frame in flight
         compute_barrier(f.cmd);
@@ -264,11 +271,20 @@ private:
             // so that each frame updates about the same number of pixels (Guenter §4).
             st.due = !half_rate_ || i == 0 || !st.has_history || (frame + uint64_t(i)) % 2 == 1;
             if (!st.due) continue;
+            st.centre[0] = gx;
+            st.centre[1] = gy;
             if (i + 1 < count_) {
-                // Snap the crop to the layer's texel grid so the history stays aligned.
+                // Snap the crop to the layer's texel grid so the history stays aligned, then
+                // keep it on the display (crops stay within 0..1): the on-screen part of the
+                // mask circle around the gaze still lies inside the shifted square.
                 const double size = st.texels.width * st.s;
-                st.origin[0] = std::round((gx - 0.5 * size) / st.s) * st.s;
-                st.origin[1] = std::round((gy - 0.5 * size) / st.s) * st.s;
+                for (int a = 0; a < 2; ++a) {
+                    const double extent = a == 0 ? extent_.width : extent_.height;
+                    const double snapped =
+                        std::round(((a == 0 ? gx : gy) - 0.5 * size) / st.s) * st.s;
+                    st.origin[a] = std::clamp(snapped, std::min(0.0, extent - size),
+                                              std::max(0.0, extent - size));
+                }
             } else {
                 st.origin[0] = st.origin[1] = 0.0;
             }
