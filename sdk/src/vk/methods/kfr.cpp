@@ -1,5 +1,6 @@
 // Method "kfr": Meng et al. 2018 kernel foveated rendering. Pass I shades a reduced log-polar
-// buffer (σ² fewer texels) from the full-resolution G-buffer, a 3x3 Gaussian smooths its
+// buffer (σ² fewer texels) from the full-resolution G-buffer — only the texels that land on
+// the screen, through a compacted list and an indirect dispatch — a 3x3 Gaussian smooths its
 // peripheral columns, pass II maps it back to the screen with anti-aliasing.
 // Options: kfr.sigma (1.8), kfr.alpha (4), kfr.literal (0: the study's kernel direction, see
 // kfr_model.hpp), kfr.betas ("b1,b2,..": polynomial kernel, overrides alpha).
@@ -59,16 +60,25 @@ public:
         extent_ = ctx.extent;
         lp_extent_ = {uint32_t(methods::kfr_buffer_extent(int(extent_.width), sigma_)),
                       uint32_t(methods::kfr_buffer_extent(int(extent_.height), sigma_))};
-        const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
-        lp_ = Image(ctx.device, lp_extent_, kColorFormat, usage);
-        lp_blur_ = Image(ctx.device, lp_extent_, kColorFormat, usage);
+        lp_ = Image(ctx.device, lp_extent_, kColorFormat,
+                    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+        lp_blur_ = Image(ctx.device, lp_extent_, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+        list_ = Buffer(ctx.device, 16 + 4ull * lp_extent_.width * lp_extent_.height,
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       false);
 
         const Binding one_image[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
         const Binding two_images[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                       {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
         // KFR_POLY as a specialization constant: the unused kernel is compiled out.
         const uint32_t spec[] = {kernel_.is_power() ? 0u : 1u};
-        auto forward = ctx.shading_pipeline("kfr_forward.shade.comp", one_image, sizeof(KfrPush),
+        const Binding list_b[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+        const Binding forward_b[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
+        list_pass_ = ctx.builtin_pipeline("kfr_list.comp", list_b, sizeof(KfrPush), false, spec);
+        args_pass_ = ctx.builtin_pipeline("kfr_args.comp", list_b, 0, true);
+        auto forward = ctx.shading_pipeline("kfr_forward.shade.comp", forward_b, sizeof(KfrPush),
                                             {}, spec);
         if (!forward) return forward.error();
         forward_ = std::move(*forward);
@@ -76,8 +86,15 @@ public:
         inverse_ = ctx.builtin_pipeline("kfr_inverse.comp", one_image, sizeof(KfrPush), true, spec);
 
         const VkDevice dev = ctx.device.device();
+        list_set_ = list_pass_.allocate_set();
+        DescriptorWriter(dev, list_set_).storage_buffer(0, list_).commit();
+        args_set_ = args_pass_.allocate_set();
+        DescriptorWriter(dev, args_set_).storage_buffer(0, list_).commit();
         forward_set_ = forward_.allocate_set();
-        DescriptorWriter(dev, forward_set_).storage_image(0, lp_.view()).commit();
+        DescriptorWriter(dev, forward_set_)
+            .storage_buffer(0, list_)
+            .storage_image(1, lp_.view())
+            .commit();
         blur_set_ = blur_.allocate_set();
         DescriptorWriter(dev, blur_set_)
             .storage_image(0, lp_.view())
@@ -112,8 +129,19 @@ public:
 
         const uint32_t gx = div_up(lp_extent_.width, 8);
         const uint32_t gy = div_up(lp_extent_.height, 8);
-        forward_.bind(f.cmd, f.frame_set, forward_set_, &push, sizeof(push));
+        vkCmdFillBuffer(f.cmd, list_.get(), 0, 16, 0);
+        const VkClearColorValue zero{};
+        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(f.cmd, lp_.get(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        compute_barrier(f.cmd);
+        list_pass_.bind(f.cmd, VK_NULL_HANDLE, list_set_, &push, sizeof(push));
         vkCmdDispatch(f.cmd, gx, gy, 1);
+        compute_barrier(f.cmd);
+        args_pass_.bind(f.cmd, f.frame_set, args_set_);
+        vkCmdDispatch(f.cmd, 1, 1, 1);
+        indirect_barrier(f.cmd);
+        forward_.bind(f.cmd, f.frame_set, forward_set_, &push, sizeof(push));
+        vkCmdDispatchIndirect(f.cmd, list_.get(), 0);
         compute_barrier(f.cmd);
         blur_.bind(f.cmd, VK_NULL_HANDLE, blur_set_, &push, sizeof(push));
         vkCmdDispatch(f.cmd, gx, gy, 1);
@@ -138,9 +166,14 @@ private:
     VkExtent2D lp_extent_{};
     Image lp_;
     Image lp_blur_;
+    Buffer list_;
+    ComputePipeline list_pass_;
+    ComputePipeline args_pass_;
     ComputePipeline forward_;
     ComputePipeline blur_;
     ComputePipeline inverse_;
+    VkDescriptorSet list_set_ = VK_NULL_HANDLE;
+    VkDescriptorSet args_set_ = VK_NULL_HANDLE;
     VkDescriptorSet forward_set_ = VK_NULL_HANDLE;
     VkDescriptorSet blur_set_ = VK_NULL_HANDLE;
     VkDescriptorSet inverse_set_ = VK_NULL_HANDLE;
