@@ -21,13 +21,15 @@ layout(push_constant) uniform ShadePush {
     float pad0, pad1, pad2;
 } sp;
 
-shared uint group_shaded;
-
 void main() {
-    if (gl_LocalInvocationIndex == 0u) group_shaded = 0u;
-    barrier();
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
-    if (all(lessThan(t, imageSize(l_color)))) {
+    ivec2 size = imageSize(l_color);
+    if (gl_LocalInvocationIndex == 0u) {
+        // Each workgroup counts its in-bounds texels once (no shared-memory barrier).
+        ivec2 n = clamp(size - ivec2(gl_WorkGroupID.xy) * 8, ivec2(0), ivec2(8));
+        atomicAdd(fovea_stats.shaded_samples, uint(n.x * n.y));
+    }
+    if (all(lessThan(t, size))) {
         FoveaGSample g;
         vec4 pos = imageLoad(l_position, t);
         vec4 nrm = imageLoad(l_normal, t);
@@ -46,9 +48,5 @@ void main() {
         float s_t = clamp(log2(sp.s) * 0.5, 0.0, 1.0);
         vec3 c = fovea_shade(g, fovea_make_footprint(centre, sp.s, g.distance, s_t));
         imageStore(l_color, t, vec4(c, 1.0));
-        atomicAdd(group_shaded, 1u);
     }
-    barrier();
-    if (gl_LocalInvocationIndex == 0u && group_shaded > 0u)
-        atomicAdd(fovea_stats.shaded_samples, group_shaded);
 }
