@@ -25,7 +25,7 @@ layout(push_constant) uniform AdaptivePush {
     int has_history;      // 0 on the first frame and after a camera cut: S = 1, E kept
     uint seed;            // sampling pattern seed (fixed: temporally stable pattern)
     int level;            // pull/push: destination level; 0 in the last push writes the output
-    float pad0;
+    float features;       // 1: F_O, F_H, F_S on; 0: acuity and motion only (ablation, tests)
     float pad1;
     vec4 light;           // xyz direction towards the light (unit), w intensity (Eq. 8)
 } ad;

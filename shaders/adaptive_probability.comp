@@ -79,6 +79,8 @@ void main() {
         adaptive_tonemap(adaptive_luminance(imageLoad(prev_low, lt).rgb), ex.exposure));
     s = ad.has_history != 0 ? s : 1.0;
 
+    so *= ad.features;
+    f_h *= ad.features;
     float pr = clamp(max(max(f_m, so.y), max(f_h, so.x)) * s, 0.0, 1.0);
     // The ω_p floor also after S: a region that went dark must still be sampled to notice a
     // change (the literal Eq. 12 can reach 0 there and never recover).

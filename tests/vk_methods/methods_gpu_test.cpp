@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "method_harness.hpp"
+#include "methods/adaptive_model.hpp"
 
 namespace fovea::vk::test {
 namespace {
@@ -221,6 +222,24 @@ TEST(AdaptiveGpu, SamplingPatternIsTemporallyStable) {
             prev = cur;
         }
     }
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
+TEST(AdaptiveGpu, ConstantProbabilityPicksTheSamplesOfTheCpuPattern) {
+    // With every feature but acuity off and a flat acuity line, P = 0.3 everywhere: the GPU must
+    // shade exactly the pixels whose CPU-model threshold (same hash) is below 0.3.
+    REQUIRE_DEVICE();
+    MethodHarness m(*dev, kW, kH, "adaptive",
+                    {"adaptive.features=0", "adaptive.brightness=0", "adaptive.omega0=0.3",
+                     "adaptive.slope=0", "adaptive.omega_p=0.3", "adaptive.seed=7"},
+                    0);
+    ASSERT_TRUE(m.ok()) << m.error();
+    const Frame out = m.render(0, 0.5f, 0.5f);
+    uint64_t expected = 0;
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) expected += methods::sample_threshold(x, y, 7) < 0.3;
+    EXPECT_EQ(out.stats.shaded_samples, expected);
+    EXPECT_NEAR(double(expected) / (kW * kH), 0.3, 0.01);
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
 

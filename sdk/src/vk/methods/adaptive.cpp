@@ -7,7 +7,8 @@
 // adaptive.omega_p (0.02), adaptive.gamma (20), adaptive.t_dark (0.15), adaptive.t_bright (0.9),
 // adaptive.rate (0.05), adaptive.exposure_target (0.5), adaptive.depth_step (0.05),
 // adaptive.normal_step (0.25), adaptive.albedo_step (0.25), adaptive.light ("0.3,0.8,0.5,1"),
-// adaptive.seed (1), adaptive.brightness (1: Eqs. 9–11 on; 0: S = 1).
+// adaptive.seed (1), adaptive.brightness (1: Eqs. 9–11 on; 0: S = 1), adaptive.features (1: F_O,
+// F_H, F_S on; 0: acuity and eye motion only).
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -41,7 +42,8 @@ struct AdaptivePush {  // shaders/adaptive_common.glsl
     int32_t has_history;
     uint32_t seed;
     int32_t level;
-    float pad[2];
+    float features;
+    float pad;
     float light[4];
 };
 static_assert(sizeof(AdaptivePush) == 112, "push layout");
@@ -82,6 +84,7 @@ public:
         p_.ecc_norm_deg = 0.5f * display_.fov_v_deg;
         p_.seed = uint32_t(ctx.option_number("adaptive.seed", 1.0));
         brightness_ = ctx.option_number("adaptive.brightness", 1.0) != 0.0;
+        p_.features = ctx.option_number("adaptive.features", 1.0) != 0.0 ? 1.0f : 0.0f;
         auto light = parse_light(ctx.option("adaptive.light", "0.3,0.8,0.5,1"));
         if (!light) return light.error();
         std::memcpy(p_.light, light->data(), sizeof(p_.light));
