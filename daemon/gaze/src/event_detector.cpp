@@ -150,19 +150,6 @@ bool EventDetector::pop(DetectorOutput& out) {
     // Threshold statistics see final labels only, so blink edges never inflate them.
     const bool inter = out.event == Event::kFixation || out.event == Event::kPursuit;
     if (velocity_sink_) velocity_sink_->push_back(inter ? e.v : kNaN);
-    // Position noise: second difference, blind to steady pursuit.
-    if (inter && emit_next_ - 1 >= base_ && emit_next_ + 1 < n_) {
-        const Entry& a = at(emit_next_ - 1);
-        const Entry& b = at(emit_next_ + 1);
-        if (a.valid && b.valid && e.valid) {
-            const double d2 = std::hypot(b.x - 2 * e.x + a.x, b.y - 2 * e.y + a.y);
-            if (noise_sink_) noise_sink_->push_back(d2);
-            if (mode_ == DetectorMode::kOnline && d2 < 1.0) {
-                noise_weight_ += 1.0;
-                noise_ += (d2 - noise_) / std::min(noise_weight_, 4096.0);
-            }
-        }
-    }
     if (mode_ == DetectorMode::kOnline && inter && std::isfinite(e.v) && e.v < peak_ &&
         emit_next_ > base_) {
         update_stats(e.v, std::min(e.t - at(emit_next_ - 1).t, 0.1));
@@ -300,6 +287,22 @@ void EventDetector::end_saccade(int64_t last) {
     post_t0_ = at(last).t;
 }
 
+void EventDetector::update_noise(int64_t c) {
+    // Position noise: second difference, blind to steady pursuit. Sampled as soon as a sample
+    // is intersaccadic so short recordings warm up quickly.
+    if (c - 1 < base_ || c + 1 >= n_) return;
+    const Entry& a = at(c - 1);
+    const Entry& e = at(c);
+    const Entry& b = at(c + 1);
+    if (!a.valid || !b.valid || !e.valid) return;
+    const double d2 = std::hypot(b.x - 2 * e.x + a.x, b.y - 2 * e.y + a.y);
+    if (noise_sink_) noise_sink_->push_back(d2);
+    if (mode_ == DetectorMode::kOnline && d2 < 1.0) {
+        noise_weight_ += 1.0;
+        noise_ += (d2 - noise_) / std::min(noise_weight_, 4096.0);
+    }
+}
+
 void EventDetector::stage_saccades(int64_t c) {
     Entry& e = at(c);
     if (e.lost || !std::isfinite(e.v)) {
@@ -325,6 +328,7 @@ void EventDetector::stage_saccades(int64_t c) {
         return;
     }
     const bool local_min = !(v_next < v);  // NaN next counts as a minimum
+    const double pso_thr = p_.pso_onset_factor * onset_;
     switch (state_) {
         case State::kSaccade: {
             e.label = sacc_blink_ ? Label::kBlink : Label::kSaccade;
@@ -340,14 +344,18 @@ void EventDetector::stage_saccades(int64_t c) {
         case State::kPso: {
             e.label = Label::kPso;
             e.sacc = sacc_id_;
-            if ((v < onset_ && local_min) || e.t - post_t0_ > 2.0 * p_.pso_window_s) {
+            if (e.t - post_t0_ > 2.0 * p_.pso_window_s) {
                 state_ = State::kIdle;
+            } else if (v < pso_thr && local_min) {
+                // One wobble is over; another inside the window belongs to the same PSO.
+                state_ = State::kPostSaccade;
+                post_start_ = c + 1;
             }
             return;
         }
         case State::kPostSaccade: {
             if (e.t - post_t0_ <= p_.pso_window_s) {
-                if (v > onset_) {
+                if (v > pso_thr) {
                     for (int64_t i = std::max(post_start_, emit_next_); i <= c; ++i) {
                         at(i).label = Label::kPso;
                         invalidate(i);
@@ -370,6 +378,7 @@ void EventDetector::stage_saccades(int64_t c) {
         return;
     }
     e.label = Label::kInter;
+    update_noise(c);
 }
 
 double EventDetector::window_speed(int64_t lo, int64_t hi) const {

@@ -38,6 +38,8 @@ struct DetectorParams {
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
+    double pso_onset_factor = 1.3;
+    double pso_peak_fraction = 1.0;  // ... or above this x the saccade's peak, if lower  // PSO: velocity above this x onset threshold
     double smooth_half_window_s = 0.400;  // pursuit speed window, +-400 ms within a segment
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
@@ -134,6 +136,7 @@ private:
     void mark_blink_back(int64_t c);
     void update_stats(double v, double dt);
     double window_speed(int64_t lo, int64_t hi) const;
+    void update_noise(int64_t c);
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
     void advance(bool flushing);
