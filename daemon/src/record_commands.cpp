@@ -1,0 +1,168 @@
+#include "record_commands.hpp"
+
+#include <signal.h>
+
+#include <cerrno>
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+
+#include "daemon.hpp"
+#include "fovea/record/latency_stats.hpp"
+#include "fovea/record/recorder.hpp"
+
+namespace fovea::daemon {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kMaxClients = 64;
+
+std::shared_ptr<spdlog::logger> log() {
+    auto l = spdlog::get("daemon");
+    return l ? l : spdlog::default_logger();
+}
+
+json stats_json(const record::RecorderStats& s) {
+    json j = {{"path", s.path},
+              {"active", s.recording},
+              {"raw_samples", s.raw_samples},
+              {"gaze_samples", s.gaze_samples},
+              {"latency_samples", s.latency_samples},
+              {"dropped_samples", s.dropped_samples},
+              {"bytes", s.bytes_written},
+              {"flushes", s.flushes}};
+    if (s.failed) j["error"] = s.error;
+    return j;
+}
+
+// Device info for the stream headers: build the device's driver from its configuration without
+// opening it (factories only parse their table), as Daemon::start() does.
+record::RecordingInfo recording_info(const Daemon& d) {
+    record::RecordingInfo info;
+    toml::table table;
+    if (!d.config().devices.empty()) {
+        table = d.config().devices.front();
+    } else {
+        table.insert("driver", "sim");
+    }
+    if (auto drv = drivers::make_driver(table, 0)) {
+        const auto di = (*drv)->describe();
+        info.device_name = di.name;
+        info.driver = di.driver;
+        info.address = di.address;
+        info.nominal_rate_hz = di.nominal_rate_hz;
+        info.clock = di.clock;
+        info.binocular = di.binocular;
+        info.has_pupil = di.has_pupil;
+    }
+    info.display = d.config().display;
+    return info;
+}
+
+struct RecordingService {
+    Daemon& daemon;
+    record::LatencyStats device_hops;
+    std::map<int, record::LatencyStats> clients;  // by peer pid
+    std::unique_ptr<record::Recorder> recorder;
+    json last;  // counters of the last finished recording
+
+    explicit RecordingService(Daemon& d) : daemon(d) {}
+
+    json start(const json& req) {
+        if (recorder) throw std::runtime_error("already recording to " + recorder->path() + " (record.stop first)");
+        const std::string path = req.value("path", std::string());
+        if (path.empty() || path.front() != '/') {
+            throw std::runtime_error("record.start needs an absolute \"path\" (the daemon's working "
+                                     "directory is not yours)");
+        }
+        record::RecorderOptions o;
+        o.path = path;
+        o.info = recording_info(daemon);
+        if (req.contains("flush_ms")) {
+            o.flush_interval_ns = static_cast<int64_t>(req["flush_ms"].get<double>() * 1e6);
+        }
+        o.on_error = [path](const std::string& e) { log()->error("recording: {}", e); };
+        auto r = record::Recorder::start(std::move(o));
+        if (!r) throw std::runtime_error(r.error().message);
+        recorder = std::move(r).value();
+        log()->info("recording to {}", path);
+        return {{"recording", true}, {"path", path}};
+    }
+
+    json stop() {
+        if (!recorder) throw std::runtime_error("not recording");
+        auto r = recorder->stop();
+        json j = stats_json(recorder->stats());
+        recorder.reset();
+        last = j;
+        log()->info("recording stopped: {}", j.dump());
+        if (!r) j["error"] = r.error().message;
+        return j;
+    }
+
+    json report(const json& req, const PeerCredentials& peer) {
+        if (!req.contains("hops")) throw std::runtime_error("latency.report needs \"hops\"");
+        auto s = record::LatencyStats::from_json(req["hops"]);
+        if (!s) throw std::runtime_error(s.error().message);
+        if (clients.size() >= kMaxClients && !clients.count(peer.pid)) {
+            // forget clients that have exited before refusing anyone
+            for (auto it = clients.begin(); it != clients.end();) {
+                it = ::kill(it->first, 0) != 0 && errno == ESRCH ? clients.erase(it) : std::next(it);
+            }
+            if (clients.size() >= kMaxClients) throw std::runtime_error("too many reporting clients");
+        }
+        clients[peer.pid] = std::move(s).value();
+        return {{"accepted", true}};
+    }
+
+    json status_recording() const {
+        if (recorder) return stats_json(recorder->stats());
+        json j = last.is_null() ? json{{"active", false}} : last;
+        j["active"] = false;
+        return j;
+    }
+
+    json status_clients() const {
+        record::LatencyStats all;
+        for (const auto& [pid, s] : clients) all.merge(s);
+        json j = all.to_json(false);
+        j["clients"] = clients.size();
+        return j;
+    }
+};
+
+}  // namespace
+
+void attach_recording(Daemon& daemon) {
+    auto svc = std::make_shared<RecordingService>(daemon);
+    daemon.add_raw_observer([svc](const gaze::RawSample& raw) {
+        if (svc->recorder) svc->recorder->push_raw(raw, svc->daemon.landing_prediction());
+    });
+    daemon.add_published_observer([svc](const gaze::GazeSample& s, const fovea_gaze_record& r) {
+        svc->device_hops.record_published(s, r.t_publish_ns);
+        if (svc->recorder) svc->recorder->push_gaze(s, r.t_publish_ns, r.index);
+    });
+    auto& c = daemon.control();
+    c.add_command("record.start", [svc](const json& req, const PeerCredentials&) { return svc->start(req); },
+                  true, "start an XDF recording: {\"path\": \"/abs/file.xdf\"}");
+    c.add_command("record.stop", [svc](const json&, const PeerCredentials&) { return svc->stop(); },
+                  true, "stop the XDF recording");
+    c.add_command("latency.report", [svc](const json& req, const PeerCredentials& peer) {
+        return svc->report(req, peer);
+    }, false, "an SDK client's render-side latency histograms: {\"hops\": {...}}");
+    c.add_command("latency.reset", [svc](const json&, const PeerCredentials&) {
+        svc->device_hops.reset();
+        svc->clients.clear();
+        return json{{"reset", true}};
+    }, true, "zero the latency histograms");
+    daemon.add_status_section("latency", [svc] { return svc->device_hops.to_json(false); });
+    daemon.add_status_section("latency_clients", [svc] { return svc->status_clients(); });
+    daemon.add_status_section("recording", [svc] { return svc->status_recording(); });
+}
+
+}  // namespace fovea::daemon
