@@ -19,6 +19,7 @@
 #endif
 
 #include "paths.hpp"
+#include "record_commands.hpp"
 #include "record_convert.hpp"
 
 namespace fovea::daemon {
@@ -133,6 +134,7 @@ Result<void> Daemon::start() {
     gaze_ring_ = std::move(ring).value();
 
     register_commands();
+    attach_recording(*this);  // record.* / latency.* commands and status sections
     bool socket_from_systemd = false;
 #ifdef FOVEA_HAVE_SYSTEMD
     if (sd_listen_fds(1) >= 1) {

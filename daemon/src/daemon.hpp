@@ -49,6 +49,8 @@ public:
         status_sections_.emplace_back(key, std::move(fn));
     }
     const DaemonConfig& config() const { return config_; }
+    // Whether the gaze chain predicts landings right now (recording logs it so replay matches).
+    bool landing_prediction() const { return readers_attached_; }
 
 private:
     struct Device;
