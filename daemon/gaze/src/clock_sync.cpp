@@ -69,22 +69,23 @@ ClockMapping ClockSync::update(uint64_t device_ticks, int64_t receive_ns) {
         }
     }
 
-    const auto index = static_cast<int64_t>(std::floor(dev_s / params_.bin_s));
-    if (bins_.empty() || index > bins_.back().index) {
+    // A bin closes after bin_s and at least min_bin_samples: slow devices get longer bins so
+    // every minimum is taken over enough receive jitter.
+    const bool close = bins_.empty() || (dev_s - bin_start_ >= params_.bin_s &&
+                                         bin_count_ >= params_.min_bin_samples);
+    if (close) {
         const bool closed_one = !bins_.empty();
-        bins_.push_back({index, dev_s, offset});
+        bins_.push_back({0, dev_s, offset});
+        bin_start_ = dev_s;
+        bin_count_ = 1;
         while (!bins_.empty() && dev_s - bins_.front().dev_s > params_.window_s) bins_.pop_front();
         if (closed_one) fit();
     } else {
-        for (auto it = bins_.rbegin(); it != bins_.rend(); ++it) {
-            if (it->index == index) {
-                if (offset < it->offset_s) {
-                    it->offset_s = offset;
-                    it->dev_s = dev_s;
-                }
-                break;
-            }
-            if (it->index < index) break;
+        ++bin_count_;
+        Bin& b = bins_.back();
+        if (offset < b.offset_s) {
+            b.offset_s = offset;
+            b.dev_s = dev_s;
         }
     }
 
@@ -153,7 +154,13 @@ void ClockSync::fit() {
             res.push_back(r);
             if (use[i]) ss += r * r;
         }
-        a_ = om;
+        // Through the lowest minimum rather than the mean of the minima: each bin minimum
+        // still carries some latency, the lowest one the least.
+        double lowest = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (use[i]) lowest = std::min(lowest, bins_[i].offset_s - (om + b * (bins_[i].dev_s - tm)));
+        }
+        a_ = om + lowest;
         skew_ = b;
         tc_ = tm;
         fit_n_ = m;

@@ -126,6 +126,7 @@ bool EventDetector::pop(DetectorOutput& out) {
     const Entry& e = at(emit_next_);
     out.index = emit_next_;
     out.saccade = SaccadeInfo{};
+    out.saccade_id = -1;
     switch (e.label) {
         case Label::kInter:
         case Label::kFixation:
@@ -156,6 +157,7 @@ bool EventDetector::pop(DetectorOutput& out) {
     }
     if ((out.event == Event::kSaccade || out.event == Event::kPso) && e.sacc >= 0) {
         if (const Record* r = record(e.sacc)) out.saccade = r->info;
+        out.saccade_id = e.sacc;
     }
     ++emit_next_;
     while (base_ < emit_next_ - history_ && !buf_.empty()) {

@@ -57,12 +57,26 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
         return c;
     };
     // Golden-section search on log amplitude: the displacement so far bounds A from below.
-    double lo = std::log(std::max(0.1, d_now)), hi = std::log(80.0);
-    if (lo >= hi) lo = hi - 1.0;
+    // The cost is not unimodal early in flight (a small saccade near its end vs a large one
+    // starting): a coarse log grid first, then golden section around the best cell.
+    double glo = std::log(std::max(0.1, d_now)), ghi = std::log(80.0);
+    if (glo >= ghi) glo = ghi - 1.0;
+    constexpr int kGrid = 24;
+    int best = 0;
+    double best_cost = 1e300;
+    for (int g = 0; g <= kGrid; ++g) {
+        const double c = cost(std::exp(glo + (ghi - glo) * g / kGrid));
+        if (c < best_cost) {
+            best_cost = c;
+            best = g;
+        }
+    }
+    const double cell = (ghi - glo) / kGrid;
+    double lo = std::max(glo, glo + cell * (best - 1)), hi = std::min(ghi, glo + cell * (best + 1));
     constexpr double kG = 0.6180339887498949;
     double a = hi - kG * (hi - lo), b = lo + kG * (hi - lo);
     double fa = cost(std::exp(a)), fb = cost(std::exp(b));
-    for (int it = 0; it < 32; ++it) {
+    for (int it = 0; it < 20; ++it) {
         if (fa < fb) {
             hi = b;
             b = a;
@@ -86,9 +100,13 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     est.fraction = std::min(1.0, t_now / dur);
     est.x_deg = x0 + ux * amp;
     est.y_deg = y0 + uy * amp;
-    // Amplitude spread of the main sequence (~15 %) scaled by what is still to come.
-    const double remaining = 1.0 - profile(est.fraction, amp);
-    est.uncertainty_deg = std::hypot(residual, 0.15 * amp * remaining + 0.05 * amp * 0.5);
+    // Amplitude SD from the cost's curvature (flat early in the flight, sharp late), for a
+    // measurement noise of at least 0.05 deg, plus 5 % model error (main-sequence spread).
+    const double h = std::max(0.01, 0.02 * amp);
+    const double curv = (cost(amp + h) - 2.0 * cost(amp) + cost(std::max(1e-3, amp - h))) / (h * h);
+    const double noise = std::max(0.05, residual);
+    const double sd_fit = curv > 0 ? std::sqrt(2.0 * noise * noise / curv) : amp;
+    est.uncertainty_deg = std::hypot(std::min(sd_fit, 2.0 * amp), 0.05 * amp, residual);
     return est;
 }
 

@@ -26,7 +26,7 @@ double OneEuroFilter::filter(double x, double t_s) {
     if (!initialized_) {
         initialized_ = true;
         last_t_ = t_s;
-        x_hat_ = x_raw_ = x;
+        x_hat_ = x;
         dx_hat_ = 0.0;
         return x;
     }
@@ -35,13 +35,13 @@ double OneEuroFilter::filter(double x, double t_s) {
         rate_hz_ = 1.0 / (t_s - last_t_);
         last_t_ = t_s;
     }
-    const double dx = (x - x_raw_) * rate_hz_;
+    // As in the authors' vector: the derivative is taken against the last filtered value.
+    const double dx = (x - x_hat_) * rate_hz_;
     const double ad = alpha(params_.d_cutoff_hz, rate_hz_);
     dx_hat_ = ad * dx + (1.0 - ad) * dx_hat_;
     const double cutoff = params_.min_cutoff_hz + params_.beta * std::fabs(dx_hat_);
     const double a = alpha(cutoff, rate_hz_);
     x_hat_ = a * x + (1.0 - a) * x_hat_;
-    x_raw_ = x;
     return x_hat_;
 }
 

@@ -187,8 +187,9 @@ struct Pipeline::Impl {
         if (o.event == Event::kSaccade || o.event == Event::kPso) {
             g.saccade.onset_ns = o.saccade.onset_ns + t0_ns;
         }
-        if (o.event == Event::kSaccade && landing_id == detector.saccade_id() &&
-            detector.saccade_in_flight() && landing.valid) {
+        // The newest prediction made while this saccade was in flight.
+        if (o.event == Event::kSaccade && o.saccade_id >= 0 && landing_id == o.saccade_id &&
+            landing.valid) {
             g.saccade.landing_valid = true;
             g.saccade.landing_deg_x = landing.x_deg;
             g.saccade.landing_deg_y = landing.y_deg;
@@ -257,5 +258,21 @@ int Pipeline::lookahead_samples() const { return impl_->detector.lookahead_sampl
 void Pipeline::set_calibration(const Calibration& c) { impl_->calibration = c; }
 void Pipeline::clear_calibration() { impl_->calibration.reset(); }
 PipelineStats Pipeline::stats() const { return impl_->stats; }
+
+bool Pipeline::latest_landing(SaccadeInfo& out) const {
+    const Impl& m = *impl_;
+    if (!m.detector.saccade_in_flight() || m.landing_id != m.detector.saccade_id() ||
+        !m.landing.valid) {
+        return false;
+    }
+    out = SaccadeInfo{};
+    out.landing_valid = true;
+    out.landing_deg_x = m.landing.x_deg;
+    out.landing_deg_y = m.landing.y_deg;
+    out.amplitude_deg = m.landing.amplitude_deg;
+    out.landing_uncertainty_deg = m.landing.uncertainty_deg;
+    m.config.display.to_normalized(m.landing.x_deg, m.landing.y_deg, out.landing_x, out.landing_y);
+    return true;
+}
 
 }  // namespace fovea::gaze

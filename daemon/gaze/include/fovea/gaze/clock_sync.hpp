@@ -15,6 +15,7 @@ namespace fovea::gaze {
 struct ClockSyncParams {
     double window_s = 10.0;           // history the fit uses
     double bin_s = 0.25;              // one minimum per bin
+    int min_bin_samples = 200;        // ... and at least this many samples per bin
     int min_bins = 4;                 // bins before the skew fit is trusted (converged)
     double step_threshold_s = 0.002;  // a sample earlier than predicted by this is inconsistent
     double late_threshold_s = 0.5;    // a sample later than predicted by this is inconsistent
@@ -58,6 +59,8 @@ private:
     bool have_epoch_ = false;
     int64_t host_epoch_ns_ = 0;  // receive time of the first sample
     std::deque<Bin> bins_;
+    double bin_start_ = 0.0;
+    int bin_count_ = 0;
     double a_ = 0.0, skew_ = 0.0, tc_ = 0.0;  // offset(dev) = a + skew * (dev - tc)
     double fit_sd_ = 0.0;                     // SD of the offset estimate at tc
     double fit_sxx_ = 0.0;

@@ -66,6 +66,7 @@ struct DetectorOutput {
     int64_t index = 0;  // 0-based count of pushed samples
     Event event = Event::kUnknown;
     SaccadeInfo saccade;  // for saccade and PSO samples: the saccade they belong to
+    int64_t saccade_id = -1;
 };
 
 struct VelocityThresholds {

@@ -1,6 +1,7 @@
 // The 1€ filter (Casiez, Roussel, Vogel, CHI 2012): a first-order low-pass whose cutoff rises
 // with speed, so gaze is smooth at rest and lags little in motion. Matches the authors' C++
-// reference (github.com/casiez/OneEuroFilter) including its rate estimate from timestamps.
+// reference vector (github.com/casiez/OneEuroFilter): derivative against the last filtered
+// value, rate re-estimated from each timestamp step.
 #pragma once
 
 namespace fovea::gaze {
@@ -32,7 +33,6 @@ private:
     bool initialized_ = false;
     double last_t_ = 0.0;
     double x_hat_ = 0.0;   // filtered value
-    double x_raw_ = 0.0;   // last raw value (the reference differentiates raw values)
     double dx_hat_ = 0.0;  // filtered derivative
 };
 

@@ -25,7 +25,7 @@ struct PipelineConfig {
     // Published positions are filtered (in degrees); event detection sees the unfiltered,
     // calibrated signal so the filter's lag never shifts saccade onsets.
     FilterKind filter = FilterKind::kOneEuro;
-    OneEuroParams one_euro{0.5, 0.02, 1.0, 1000.0, 0.5};  // deg units; see README.md
+    OneEuroParams one_euro{1.0, 0.1, 1.0, 1000.0, 0.5};  // deg units; see README.md
     KalmanParams kalman{};
     ClockSyncParams clock_sync{};
     DetectorParams detector{};
@@ -66,6 +66,10 @@ public:
     void set_calibration(const Calibration& calibration);
     void clear_calibration();
     PipelineStats stats() const;
+    // The landing prediction for a saccade in flight at the NEWEST processed sample (not yet
+    // emitted because of the look-ahead). For renderers that cannot wait: publish this with
+    // the latest raw gaze. False when no saccade is in flight.
+    bool latest_landing(SaccadeInfo& out) const;
 
 private:
     struct Impl;

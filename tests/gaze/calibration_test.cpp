@@ -1,0 +1,106 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "fovea/gaze/calibration.hpp"
+
+namespace fovea::gaze {
+namespace {
+
+// A known raw distortion (tracker units), inverted by the fit.
+void distort(double x, double y, double& rx, double& ry, double shift) {
+    rx = 200.0 + 800.0 * x + 30.0 * y + 40.0 * x * y + 25.0 * x * x + shift;
+    ry = 100.0 + 20.0 * x + 600.0 * y - 15.0 * x * y + 35.0 * y * y;
+}
+
+Calibration calibrated(bool with_outliers, Result<CalibrationQuality>* quality) {
+    Calibration c;
+    c.begin();
+    uint32_t seed = 1;
+    auto noise = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return (static_cast<double>(seed >> 8) / 16777216.0 - 0.5) * 0.6;  // ~0.17 px SD
+    };
+    for (int gy = 0; gy < 3; ++gy) {
+        for (int gx = 0; gx < 3; ++gx) {
+            const double tx = 0.1 + 0.4 * gx, ty = 0.1 + 0.4 * gy;
+            for (int k = 0; k < 30; ++k) {
+                EyeSample l, r;
+                distort(tx, ty, l.x, l.y, 0.0);
+                distort(tx, ty, r.x, r.y, 5.0);
+                l.x += noise();
+                l.y += noise();
+                r.x += noise();
+                r.y += noise();
+                l.valid = r.valid = true;
+                if (with_outliers && k == 7) l.x += 150.0;  // a glance away
+                c.add_sample(tx, ty, l, r);
+            }
+        }
+    }
+    *quality = c.fit();
+    return c;
+}
+
+TEST(Calibration, RecoversKnownDistortionPerEye) {
+    Result<CalibrationQuality> q = make_error("unset");
+    const Calibration c = calibrated(false, &q);
+    ASSERT_TRUE(q.ok()) << q.error().message;
+    EXPECT_EQ(q->targets, 9);
+    EXPECT_LT(q->left.accuracy_deg, 0.05);
+    EXPECT_LT(q->right.accuracy_deg, 0.05);
+    EXPECT_GT(q->left.precision_rms_deg, 0.0);
+    EXPECT_GT(q->left.precision_sd_deg, 0.0);
+    // An untrained point maps close to its truth.
+    EyeSample raw;
+    distort(0.3, 0.7, raw.x, raw.y, 5.0);
+    raw.valid = true;
+    const EyeSample m = c.apply(EyeSide::kRight, raw);
+    EXPECT_NEAR(m.x, 0.3, 2e-3);
+    EXPECT_NEAR(m.y, 0.7, 2e-3);
+}
+
+TEST(Calibration, OutlierPassRejectsGlancesAndRefits) {
+    Result<CalibrationQuality> q = make_error("unset");
+    calibrated(true, &q);
+    ASSERT_TRUE(q.ok());
+    EXPECT_EQ(q->left.samples_rejected, 9);
+    EXPECT_EQ(q->right.samples_rejected, 0);
+    EXPECT_LT(q->left.accuracy_deg, 0.05);
+}
+
+TEST(Calibration, TooFewTargetsIsAnError) {
+    Calibration c;
+    EyeSample e{0.5, 0.5, 0.0, true};
+    for (int i = 0; i < 5; ++i) c.add_sample(0.1 * i, 0.5, e, e);
+    EXPECT_FALSE(c.fit().ok());
+    EyeSample bad{std::nan(""), 0.0, 0.0, true};
+    c.add_sample(0.5, 0.5, bad, bad);
+    EXPECT_EQ(c.skipped(), 1u);
+}
+
+TEST(Calibration, SaveLoadRoundTripsAndUserPathRejectsTricks) {
+    Result<CalibrationQuality> q = make_error("unset");
+    const Calibration c = calibrated(false, &q);
+    const auto dir = std::filesystem::temp_directory_path() / "fovea_calib_test";
+    std::filesystem::create_directories(dir);
+    auto path = Calibration::user_path(dir.string(), "alice");
+    ASSERT_TRUE(path.ok());
+    ASSERT_TRUE(c.save(*path).ok());
+    auto loaded = Calibration::load(*path, DisplayGeometry{});
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    EyeSample raw;
+    distort(0.6, 0.2, raw.x, raw.y, 0.0);
+    raw.valid = true;
+    EXPECT_DOUBLE_EQ(c.apply(EyeSide::kLeft, raw).x, loaded->apply(EyeSide::kLeft, raw).x);
+    EXPECT_NEAR(loaded->quality().left.accuracy_deg, q->left.accuracy_deg, 1e-12);
+    EXPECT_FALSE(Calibration::user_path(dir.string(), "../etc/passwd").ok());
+    EXPECT_FALSE(Calibration::user_path(dir.string(), "").ok());
+    EXPECT_FALSE(Calibration::from_json("{not json", DisplayGeometry{}).ok());
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace fovea::gaze

@@ -1,0 +1,80 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "fovea/gaze/pipeline.hpp"
+#include "synthetic.hpp"
+
+namespace fovea::gaze {
+namespace {
+
+TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
+    PipelineConfig c;
+    c.nominal_rate_hz = 1000.0;
+    c.clock = DeviceClock{32, 1e6};
+    Pipeline p(c);
+    const auto s = test::make_synthetic(1000.0);
+    std::vector<GazeSample> out;
+    size_t emitted = 0;
+    int64_t last_t = INT64_MIN;
+    bool saw_landing = false;
+    for (size_t i = 0; i < s.in.size(); ++i) {
+        RawSample r;
+        r.device_ticks = static_cast<uint64_t>(i) * 1000;
+        r.t_receive_ns = 1'000'000'000 + static_cast<int64_t>(i) * 1'000'000 + 200'000;
+        r.left.valid = r.right.valid = s.in[i].valid;
+        if (s.in[i].valid) {
+            c.display.to_normalized(s.in[i].x_deg, s.in[i].y_deg, r.left.x, r.left.y);
+            r.right = r.left;
+        }
+        p.process(r, out);
+        for (const auto& g : out) {
+            EXPECT_GT(g.t_capture_ns, last_t);
+            last_t = g.t_capture_ns;
+            if (g.combined.valid) {
+                EXPECT_TRUE(std::isfinite(g.combined_deg_x));
+                EXPECT_TRUE(std::isfinite(g.combined.x));
+            }
+            saw_landing |= g.saccade.landing_valid;
+        }
+        emitted += out.size();
+        EXPECT_LE(i + 1 - emitted, static_cast<size_t>(p.lookahead_samples()) + 1);
+    }
+    p.flush(out);
+    emitted += out.size();
+    EXPECT_EQ(emitted, s.in.size());
+    EXPECT_TRUE(saw_landing);
+    EXPECT_EQ(p.stats().samples_in, s.in.size());
+}
+
+TEST(Pipeline, CalibrationIsAppliedAndFlagged) {
+    PipelineConfig c;
+    Pipeline p(c);
+    Calibration cal;
+    for (int gy = 0; gy < 3; ++gy) {
+        for (int gx = 0; gx < 3; ++gx) {
+            EyeSample e{2.0 * (0.1 + 0.4 * gx), 2.0 * (0.1 + 0.4 * gy), 0.0, true};
+            for (int k = 0; k < 5; ++k) cal.add_sample(0.1 + 0.4 * gx, 0.1 + 0.4 * gy, e, e);
+        }
+    }
+    ASSERT_TRUE(cal.fit().ok());
+    p.set_calibration(cal);
+    std::vector<GazeSample> out, all;
+    for (int i = 0; i < 500; ++i) {
+        RawSample r;
+        r.device_ticks = static_cast<uint64_t>(i) * 1'000'000;
+        r.t_receive_ns = static_cast<int64_t>(i) * 1'000'000;
+        r.left = {1.0, 1.0, 0.0, true};  // raw (1,1) -> display (0.5,0.5)
+        p.process(r, out);
+        all.insert(all.end(), out.begin(), out.end());
+    }
+    p.flush(out);
+    all.insert(all.end(), out.begin(), out.end());
+    ASSERT_EQ(all.size(), 500u);
+    EXPECT_TRUE(all.back().calibrated);
+    EXPECT_NEAR(all.back().left.x, 0.5, 1e-6);
+    EXPECT_FALSE(all.back().right.valid);
+}
+
+}  // namespace
+}  // namespace fovea::gaze
