@@ -4,8 +4,10 @@
 #include "fovea/drivers/driver.hpp"
 #include "gazepoint/gazepoint_driver.hpp"
 #include "hid/hid_driver.hpp"
+#include "replay/replay_driver.hpp"
 #include "serial/serial_driver.hpp"
 #include "sim/sim_driver.hpp"
+#include "usb/usb_driver.hpp"
 
 namespace fovea::drivers {
 namespace {
@@ -14,8 +16,10 @@ namespace {
 constexpr DriverRegistration kDrivers[] = {
     {"sim", &sim::make_driver},
     {"hid", &hid::make_driver},
+    {"usb", &usb::make_driver},
     {"serial", &serial::make_driver},
     {"gazepoint", &gazepoint::make_driver},
+    {"replay", &replay::make_driver},
 };
 
 }  // namespace
