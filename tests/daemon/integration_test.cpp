@@ -53,6 +53,7 @@ struct Proc {
     }
     // Exit code, or 128+signal; -1 on timeout (then the process is killed).
     int wait(std::chrono::milliseconds timeout = 20s) {
+        if (pid <= 0) return -2;  // never kill(-1, ...): that signals every process we may
         const auto end = std::chrono::steady_clock::now() + timeout;
         int status = 0;
         while (std::chrono::steady_clock::now() < end) {
@@ -81,9 +82,10 @@ struct DaemonTest : ::testing::Test {
     std::string instance;
 
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        instance = std::string("it") + std::to_string(getpid()) + "-" + info->name();
-        dir = fs::temp_directory_path() / ("fovea-it-" + instance);
+        // Short names: a Unix socket path must fit in 108 bytes.
+        static int serial = 0;
+        instance = "it" + std::to_string(getpid()) + "-" + std::to_string(++serial);
+        dir = fs::temp_directory_path() / ("fv-" + instance);
         fs::create_directories(dir);
         setenv("FOVEA_RUNTIME_DIR", dir.c_str(), 1);
     }
@@ -204,6 +206,7 @@ TEST_F(DaemonTest, SecondDaemonOnSameInstanceRefusesToStart) {
 
 TEST_F(DaemonTest, SigtermShutsDownCleanly) {
     auto d = start_daemon();
+    ASSERT_GT(d->pid, 0);
     kill(d->pid, SIGTERM);
     EXPECT_EQ(d->wait(), 0) << d->err();
     EXPECT_FALSE(fs::exists(fovea::daemon::control_socket_path(instance)));
@@ -257,7 +260,9 @@ TEST_F(DaemonTest, RecordWritesEverySampleAsCsv) {
     uint64_t prev = 0, rows = 0;
     while (std::getline(in, line)) {
         const uint64_t idx = std::stoull(line.substr(0, line.find(',')));
-        if (rows++) EXPECT_EQ(idx, prev + 1) << "a sample is missing";
+        if (rows++) {
+            EXPECT_EQ(idx, prev + 1) << "a sample is missing";
+        }
         prev = idx;
     }
     EXPECT_GT(rows, 500u);  // the simulated tracker runs at 1 kHz by default
