@@ -52,9 +52,10 @@ inline float sample_bilinear(const Image& img, float tx, float ty, int c = 0) {
     return a * (1 - ay) + b * ay;
 }
 
-// 2×2 box reduction with ceil sizes; odd edges reuse the last texel (clamp), as the GPU does.
+// 2×2 box reduction with Vulkan's mip sizes (floor, at least 1); a 1-texel-wide source repeats
+// its texel (clamp), as the GPU does.
 inline Image reduce_box2(const Image& src) {
-    Image dst(std::max(1, (src.width + 1) / 2), std::max(1, (src.height + 1) / 2), src.channels);
+    Image dst(std::max(1, src.width / 2), std::max(1, src.height / 2), src.channels);
     for (int y = 0; y < dst.height; ++y) {
         for (int x = 0; x < dst.width; ++x) {
             for (int c = 0; c < src.channels; ++c) {
@@ -68,7 +69,7 @@ inline Image reduce_box2(const Image& src) {
     return dst;
 }
 
-// A mip chain: level 0 is the source; level l has size ceil(size / 2^l).
+// A mip chain: level 0 is the source; level l has size max(1, floor(size / 2^l)) (Vulkan's).
 using MipChain = std::vector<Image>;
 
 inline MipChain build_box_mips(Image level0, int levels) {

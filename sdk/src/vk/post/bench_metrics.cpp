@@ -1,0 +1,72 @@
+#include "bench_metrics.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "metrics_model.hpp"
+
+namespace fovea::vk::post {
+
+namespace {
+
+float half_bits_to_float(std::uint16_t h) {
+    const std::uint32_t sign = (h & 0x8000u) << 16;
+    const std::uint32_t exp = (h >> 10) & 0x1fu;
+    const std::uint32_t man = h & 0x3ffu;
+    if (exp == 0) {
+        const float f = float(man) / 16777216.0f;
+        return sign ? -f : f;
+    }
+    const std::uint32_t b = exp == 31 ? (sign | 0x7f800000u | man << 13)
+                                      : (sign | (exp - 15 + 127) << 23 | man << 13);
+    float f;
+    std::memcpy(&f, &b, 4);
+    return f;
+}
+
+}  // namespace
+
+Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int height,
+                        int stored_channels, int keep_channels) {
+    Image img(width, height, keep_channels);
+    const std::size_t texels = std::size_t(width) * height;
+    if (bytes.size() < texels * stored_channels * 2) return Image();
+    for (std::size_t i = 0; i < texels; ++i) {
+        for (int c = 0; c < keep_channels && c < stored_channels; ++c) {
+            std::uint16_t h;
+            std::memcpy(&h, bytes.data() + (i * stored_channels + c) * 2, 2);
+            img.data[i * keep_channels + c] = half_bits_to_float(h);
+        }
+    }
+    return img;
+}
+
+void AtdAccumulator::add_frame(const Image& linear_rgb, const Image* motion) {
+    Image y = tonemapped_luminance(linear_rgb);
+    if (!prev_y_.empty()) {
+        sum_ += average_temporal_difference(prev_y_, y, motion).mean;
+        ++frames_;
+    }
+    prev_y_ = std::move(y);
+}
+
+std::vector<float> RecoveryCounter::luma(const Image& rgb) const {
+    const Image y = tonemapped_luminance(rgb);
+    std::vector<float> v;
+    for (int j = 0; j < y.height; ++j)
+        for (int i = 0; i < y.width; ++i)
+            if (std::hypot(float(i) + 0.5f - cx_, float(j) + 0.5f - cy_) < r_) v.push_back(y.at(i, j));
+    return v;
+}
+
+int RecoveryCounter::frames(const Image& converged) const {
+    const std::vector<float> c = luma(converged);
+    for (std::size_t f = 0; f < frames_.size(); ++f) {
+        double err = 0;
+        for (std::size_t i = 0; i < c.size(); ++i) err += std::fabs(double(frames_[f][i]) - c[i]);
+        if (c.empty() || err / double(c.size()) <= tol_) return int(f) + 1;
+    }
+    return int(frames_.size()) + 1;
+}
+
+}  // namespace fovea::vk::post

@@ -1,0 +1,172 @@
+// Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as three
+// compute passes (moments, moment mip chain, resolve). The CPU reference is taa_model.cpp; the
+// shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
+// taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
+// taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
+// Called on the host's render thread (PostPass contract).
+#include <algorithm>
+#include <array>
+#include <map>
+#include <tuple>
+
+#include "post_pass.hpp"
+
+namespace fovea::vk {
+namespace {
+
+constexpr uint32_t kMomentLevels = 5;  // LOD = 4·S_t reads levels 0..4
+
+struct ResolvePush {
+    float alpha;
+    float alpha_max;
+    float beta;
+    float gamma;
+    float depth_tolerance;
+    int32_t levels;
+    uint32_t flags;
+};
+
+class TaaPass final : public PostPass {
+public:
+    ~TaaPass() override {
+        if (sampler_) vkDestroySampler(device_, sampler_, nullptr);
+    }
+
+    Result<void> init(const ModuleContext& ctx) override {
+        device_ = ctx.device.device();
+        push_.alpha = float(ctx.option_number("taa.alpha", 0.1));
+        push_.alpha_max = float(ctx.option_number("taa.alpha_max", 1.0 / 3.0));
+        push_.beta = float(ctx.option_number("taa.beta", 0.25));
+        push_.gamma = float(ctx.option_number("taa.gamma", 1.0));
+        push_.depth_tolerance = float(ctx.option_number("taa.depth_tolerance", 0.05));
+        saccade_ = ctx.option_number("taa.saccade", 1.0) != 0.0;
+        const std::string precision = ctx.option("taa.precision", "half");
+        if (precision != "half" && precision != "float")
+            return make_error("taa.precision must be half or float, not '" + precision + "'");
+        const bool half = precision == "half";
+        const VkFormat fmt = half ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+        const std::string suffix = half ? "_half.comp" : "_float.comp";
+        if (!(push_.beta > 0.0f)) return make_error("taa.beta must be > 0");
+
+        const VkExtent2D e = ctx.extent;
+        uint32_t levels = 1;
+        for (uint32_t w = e.width, h = e.height; levels < kMomentLevels && (w > 1 || h > 1);
+             ++levels) {
+            w = std::max(1u, w / 2);  // Vulkan mip sizes
+            h = std::max(1u, h / 2);
+        }
+        push_.levels = int32_t(levels);
+        const VkImageUsageFlags mom_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        m1_ = Image(ctx.device, e, fmt, mom_usage, levels);
+        m2_ = Image(ctx.device, e, fmt, mom_usage, levels);
+        for (auto& h : hist_) h = Image(ctx.device, e, fmt, VK_IMAGE_USAGE_STORAGE_BIT);
+        for (auto& d : hist_depth_)
+            d = Image(ctx.device, e, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
+
+        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+        sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+        sci.addressModeU = sci.addressModeV = sci.addressModeW =
+            VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+        sci.maxLod = float(levels);
+        VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
+
+        const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
+        const Binding mom_b[] = {img, img, img};
+        const Binding red_b[] = {img, img, img, img};
+        const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, img};
+        moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
+        reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
+        resolve_ = ctx.builtin_pipeline("taa_resolve" + suffix, res_b, sizeof(ResolvePush), false);
+        for (uint32_t l = 0; l + 1 < levels; ++l) {
+            VkDescriptorSet s = reduce_.allocate_set();
+            DescriptorWriter(device_, s)
+                .storage_image(0, m1_.mip_view(l))
+                .storage_image(1, m2_.mip_view(l))
+                .storage_image(2, m1_.mip_view(l + 1))
+                .storage_image(3, m2_.mip_view(l + 1))
+                .commit();
+            reduce_sets_.push_back(s);
+        }
+        return {};
+    }
+
+    void record(const PostFrame& f) override {
+        const VkExtent2D e = f.color_in.extent;
+        const uint32_t gx = div_up(e.width, 8);
+        const uint32_t gy = div_up(e.height, 8);
+
+        auto mit = moment_sets_.find(f.color_in.view);
+        if (mit == moment_sets_.end()) {
+            VkDescriptorSet s = moments_.allocate_set();
+            DescriptorWriter(device_, s)
+                .storage_image(0, f.color_in.view)
+                .storage_image(1, m1_.mip_view(0))
+                .storage_image(2, m2_.mip_view(0))
+                .commit();
+            mit = moment_sets_.emplace(f.color_in.view, s).first;
+        }
+        moments_.bind(f.cmd, VK_NULL_HANDLE, mit->second);
+        vkCmdDispatch(f.cmd, gx, gy, 1);
+        compute_barrier(f.cmd);
+        for (uint32_t l = 0; l < reduce_sets_.size(); ++l) {
+            reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[l]);
+            vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)) + 1, 8),
+                          div_up(std::max(1u, e.height >> (l + 1)) + 1, 8), 1);
+            compute_barrier(f.cmd);
+        }
+
+        const int src = parity_;
+        const int dst = 1 - parity_;
+        const auto key = std::make_tuple(f.color_in.view, f.color_out.view, f.depth.view,
+                                         f.motion.view, f.rate.view, src);
+        auto rit = resolve_sets_.find(key);
+        if (rit == resolve_sets_.end()) {
+            VkDescriptorSet s = resolve_.allocate_set();
+            DescriptorWriter(device_, s)
+                .storage_image(0, f.color_in.view)
+                .storage_image(1, f.depth.view)
+                .storage_image(2, f.motion.view)
+                .storage_image(3, f.rate.view)
+                .sampled_image(4, m1_.view(), sampler_)
+                .sampled_image(5, m2_.view(), sampler_)
+                .storage_image(6, hist_[src].view())
+                .storage_image(7, hist_depth_[src].view())
+                .storage_image(8, hist_[dst].view())
+                .storage_image(9, hist_depth_[dst].view())
+                .storage_image(10, f.color_out.view)
+                .commit();
+            rit = resolve_sets_.emplace(key, s).first;
+        }
+        ResolvePush push = push_;
+        const bool have_history = valid_ && !f.inputs.camera_cut;
+        push.flags = (have_history ? 1u : 0u) | (saccade_ ? 2u : 0u);
+        resolve_.bind(f.cmd, VK_NULL_HANDLE, rit->second, &push, sizeof(push));
+        vkCmdDispatch(f.cmd, gx, gy, 1);
+        parity_ = dst;
+        valid_ = true;
+    }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkSampler sampler_ = VK_NULL_HANDLE;
+    ResolvePush push_{};
+    bool saccade_ = true;
+    bool valid_ = false;
+    int parity_ = 0;
+    Image m1_, m2_;
+    std::array<Image, 2> hist_, hist_depth_;
+    ComputePipeline moments_, reduce_, resolve_;
+    std::vector<VkDescriptorSet> reduce_sets_;
+    std::map<VkImageView, VkDescriptorSet> moment_sets_;
+    std::map<std::tuple<VkImageView, VkImageView, VkImageView, VkImageView, VkImageView, int>,
+             VkDescriptorSet>
+        resolve_sets_;
+};
+
+}  // namespace
+
+std::unique_ptr<PostPass> make_taa_pass() { return std::make_unique<TaaPass>(); }
+
+}  // namespace fovea::vk

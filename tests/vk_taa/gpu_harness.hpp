@@ -1,0 +1,193 @@
+// Test harness for running one post pass on a headless device: upload CPU images, record the
+// pass outside a Foveator, read results back as float images. Skips when no Vulkan device.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fovea/vk/device.hpp"
+#include "gpu.hpp"
+#include "image_model.hpp"
+#include "post_pass.hpp"
+
+namespace fovea::vk::testing {
+
+inline uint16_t float_to_half(float f) {
+    const float r = post::round_to_half(f);
+    uint32_t b;
+    std::memcpy(&b, &r, 4);
+    const uint32_t sign = (b >> 16) & 0x8000u;
+    const uint32_t exp = (b >> 23) & 0xffu;
+    const uint32_t man = b & 0x7fffffu;
+    if (exp == 0xff) return uint16_t(sign | 0x7c00u | (man ? 0x200u : 0u));
+    const int e = int(exp) - 127 + 15;
+    if (e >= 31) return uint16_t(sign | 0x7c00u);
+    if (e <= 0) {  // subnormal (r is already rounded to the half grid)
+        const float a = std::fabs(r) * 16777216.0f;
+        return uint16_t(sign | uint32_t(a));
+    }
+    return uint16_t(sign | uint32_t(e) << 10 | man >> 13);
+}
+
+inline float half_to_float(uint16_t h) {
+    const uint32_t sign = (h & 0x8000u) << 16;
+    const uint32_t exp = (h >> 10) & 0x1fu;
+    const uint32_t man = h & 0x3ffu;
+    float f;
+    if (exp == 0) {
+        f = float(man) / 16777216.0f;
+        return sign ? -f : f;
+    }
+    uint32_t b = exp == 31 ? (sign | 0x7f800000u | man << 13)
+                           : (sign | (exp - 15 + 127) << 23 | man << 13);
+    std::memcpy(&f, &b, 4);
+    return f;
+}
+
+inline int format_channels(VkFormat f) {
+    switch (f) {
+        case VK_FORMAT_R16G16B16A16_SFLOAT:
+        case VK_FORMAT_R32G32B32A32_SFLOAT: return 4;
+        case VK_FORMAT_R16G16_SFLOAT: return 2;
+        default: return 1;
+    }
+}
+
+inline bool format_is_half(VkFormat f) {
+    return f == VK_FORMAT_R16G16B16A16_SFLOAT || f == VK_FORMAT_R16G16_SFLOAT ||
+           f == VK_FORMAT_R16_SFLOAT;
+}
+
+// Writes `img` (missing channels: colour alpha = 1, others 0) into a GPU image.
+inline void upload(const Device& dev, const vk::Image& dst, const post::Image& img) {
+    const int ch = format_channels(dst.format());
+    const bool half = format_is_half(dst.format());
+    const size_t texels = size_t(img.width) * img.height;
+    Buffer staging(dev, texels * ch * (half ? 2 : 4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    for (size_t i = 0; i < texels; ++i) {
+        for (int c = 0; c < ch; ++c) {
+            const float v = c < img.channels ? img.data[i * img.channels + c] : (c == 3 ? 1.f : 0.f);
+            if (half) {
+                static_cast<uint16_t*>(staging.data())[i * ch + c] = float_to_half(v);
+            } else {
+                static_cast<float*>(staging.data())[i * ch + c] = v;
+            }
+        }
+    }
+    dev.submit_and_wait([&](VkCommandBuffer cmd) {
+        VkBufferImageCopy r{};
+        r.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        r.imageExtent = {uint32_t(img.width), uint32_t(img.height), 1};
+        vkCmdCopyBufferToImage(cmd, staging.get(), dst.get(), VK_IMAGE_LAYOUT_GENERAL, 1, &r);
+    });
+}
+
+inline post::Image download(const Device& dev, const ImageRef& src, int keep_channels) {
+    const std::vector<uint8_t> bytes = dev.read_image(src);
+    const int ch = format_channels(src.format);
+    const bool half = format_is_half(src.format);
+    post::Image img(int(src.extent.width), int(src.extent.height), keep_channels);
+    const size_t texels = size_t(img.width) * img.height;
+    for (size_t i = 0; i < texels; ++i) {
+        for (int c = 0; c < keep_channels; ++c) {
+            float v;
+            if (half) {
+                uint16_t h;
+                std::memcpy(&h, bytes.data() + (i * ch + c) * 2, 2);
+                v = half_to_float(h);
+            } else {
+                std::memcpy(&v, bytes.data() + (i * ch + c) * 4, 4);
+            }
+            img.data[i * keep_channels + c] = v;
+        }
+    }
+    return img;
+}
+
+// A headless device (validation on when FOVEA_VK_VALIDATION) or nullptr + skip reason.
+inline std::unique_ptr<Device> make_device(std::string& why) {
+    DeviceOptions o;
+    o.validation = FOVEA_TEST_VALIDATION;
+    o.prefer_software = true;
+    auto d = Device::create_headless(o);
+    if (!d) {
+        why = d.error().message;
+        return nullptr;
+    }
+    return std::make_unique<Device>(std::move(*d));
+}
+
+// Runs one post pass over frames the test supplies; owns the input/output images.
+class PassRunner {
+public:
+    PassRunner(const Device& dev, VkExtent2D extent, std::vector<std::string> options)
+        : dev_(dev), extent_(extent) {
+        config_.extent = extent;
+        config_.options = std::move(options);
+        const VkImageUsageFlags u = VK_IMAGE_USAGE_STORAGE_BIT;
+        color_in_ = vk::Image(dev, extent, VK_FORMAT_R16G16B16A16_SFLOAT, u);
+        color_out_ = vk::Image(dev, extent, VK_FORMAT_R16G16B16A16_SFLOAT, u);
+        depth_ = vk::Image(dev, extent, VK_FORMAT_R32_SFLOAT, u);
+        motion_ = vk::Image(dev, extent, VK_FORMAT_R16G16_SFLOAT, u);
+        rate_ = vk::Image(dev, extent, VK_FORMAT_R16_SFLOAT, u);
+    }
+
+    Result<void> init(PostPass& pass) {
+        const ModuleContext ctx{dev_, config_, extent_, VK_NULL_HANDLE, gbuffer_, rate_tiles_,
+                                stats_};
+        return pass.init(ctx);
+    }
+
+    void set_inputs(const post::Image& colour, const post::Image& depth, const post::Image& motion,
+                    const post::Image& rate) {
+        upload(dev_, color_in_, colour);
+        upload(dev_, depth_, depth);
+        upload(dev_, motion_, motion);
+        upload(dev_, rate_, rate);
+    }
+
+    // Records `frames` frames of the pass into one submission (inputs unchanged between them).
+    void run(PostPass& pass, int frames, bool camera_cut = false, float gaze_x = 0,
+             float gaze_y = 0) {
+        FrameInputs inputs;
+        inputs.camera_cut = camera_cut;
+        ResolvedGaze gaze;
+        gaze.x_px = gaze_x;
+        gaze.y_px = gaze_y;
+        FrameUniforms u{};
+        u.extent[0] = float(extent_.width);
+        u.extent[1] = float(extent_.height);
+        u.gaze_px[0] = gaze_x;
+        u.gaze_px[1] = gaze_y;
+        dev_.submit_and_wait([&](VkCommandBuffer cmd) {
+            for (int i = 0; i < frames; ++i) {
+                const PostFrame f{cmd,       VK_NULL_HANDLE, frame_++,      u,
+                                  inputs,    gaze,           color_in_.ref(), color_out_.ref(),
+                                  depth_.ref(), motion_.ref(), rate_.ref(), {0.f, 0.f}};
+                pass.record(f);
+                compute_barrier(cmd);
+                inputs.camera_cut = false;
+            }
+        });
+    }
+
+    post::Image output(int channels = 3) const { return download(dev_, color_out_.ref(), channels); }
+    FoveatorConfig& config() { return config_; }
+    post::Image rate() const { return download(dev_, rate_.ref(), 1); }
+
+private:
+    const Device& dev_;
+    VkExtent2D extent_;
+    FoveatorConfig config_;
+    GBufferRefs gbuffer_;
+    ImageRef rate_tiles_;
+    Buffer stats_;
+    vk::Image color_in_, color_out_, depth_, motion_, rate_;
+    uint64_t frame_ = 0;
+};
+
+}  // namespace fovea::vk::testing
