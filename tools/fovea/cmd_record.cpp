@@ -5,8 +5,15 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "control.hpp"
+#include "paths.hpp"
 #include "gaze_format.hpp"
 #include "ring_session.hpp"
 
@@ -47,13 +54,34 @@ void record_csv(const RecordOptions& o) {
     if (dropped) throw CLI::RuntimeError(3);
 }
 
+// .xdf: the daemon itself records (raw, processed and latency streams; see
+// daemon/src/record_commands.hpp), so the file can be replayed through the gaze chain.
+void record_xdf(const RecordOptions& o) {
+    const std::string sock = daemon::control_socket_path(global_options().instance);
+    const std::string path = std::filesystem::absolute(o.out).string();
+    auto call = [&](const nlohmann::json& req) {
+        auto r = daemon::control_request(sock, req, 10000);
+        if (!r) throw std::runtime_error(r.error().message);
+        if (!r->value("ok", false)) throw std::runtime_error(r->value("error", std::string("failed")));
+        return *r;
+    };
+    call({{"cmd", "record.start"}, {"path", path}});
+    std::this_thread::sleep_for(std::chrono::duration<double>(o.duration_s));
+    const auto st = call({{"cmd", "record.stop"}});
+    std::fprintf(stderr, "fovea record: %llu raw / %llu processed samples to %s (%llu dropped)\n",
+                 st.value("raw_samples", 0ull), st.value("gaze_samples", 0ull), path.c_str(),
+                 st.value("dropped_samples", 0ull));
+    if (st.contains("error")) throw std::runtime_error(st["error"].get<std::string>());
+}
+
 void setup_record(CLI::App& app) {
     static RecordOptions o;
-    app.add_option("--out,-o", o.out, "Output file (.csv)")->required();
+    app.add_option("--out,-o", o.out, "Output file (.csv, or .xdf recorded by the daemon)")->required();
     app.add_option("--duration", o.duration_s, "Seconds to record")->check(CLI::PositiveNumber);
     app.callback([] {
+        if (ends_with(o.out, ".xdf")) return record_xdf(o);
         if (!ends_with(o.out, ".csv"))
-            throw std::runtime_error("unsupported output format for " + o.out + " (use .csv)");
+            throw std::runtime_error("unsupported output format for " + o.out + " (use .csv or .xdf)");
         record_csv(o);
     });
 }
