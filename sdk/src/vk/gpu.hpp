@@ -143,3 +143,9 @@ void indirect_barrier(VkCommandBuffer cmd);
 inline uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
 }  // namespace fovea::vk
+
+namespace fovea::vk {
+// Copies tightly packed texels into an image (GENERAL layout, one mip). Blocking; for tests,
+// tools and one-time uploads.
+void upload_image(const Device& device, const ImageRef& image, std::span<const uint8_t> texels);
+}  // namespace fovea::vk

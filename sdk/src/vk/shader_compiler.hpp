@@ -19,6 +19,7 @@ Result<std::vector<uint32_t>> compile_with_host(std::string_view shader_name,
 
 // Compiles arbitrary compute GLSL (includes resolve to embedded shaders).
 Result<std::vector<uint32_t>> compile_glsl(std::string_view source, std::string_view debug_name,
-                                           std::string_view host_glsl = {});
+                                           std::string_view host_glsl = {},
+                                           const std::vector<std::string>& defines = {});
 
 }  // namespace fovea::vk

@@ -2,6 +2,11 @@
 // sdk/src/vk/methods/<name>.cpp (the block-scope declaration keeps the entry to a single line).
 #include "../method.hpp"
 
+// The block-scope factory declarations are intended.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wvexing-parse"
+#endif
+
 namespace fovea::vk {
 
 std::span<const MethodEntry> method_registry() {

@@ -1,0 +1,355 @@
+#include "gpu.hpp"
+
+#include <cassert>
+#include <cstring>
+
+namespace fovea::vk {
+
+Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage,
+               bool host_visible)
+    : device_(device.device()), size_(size) {
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = size;
+    bci.usage = usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    VK_CHECK(vkCreateBuffer(device_, &bci, nullptr, &buffer_));
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device_, buffer_, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = device.memory_type(
+        req.memoryTypeBits, host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                               VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                         : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkAllocateMemory(device_, &mai, nullptr, &memory_));
+    VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
+    if (host_visible) {
+        VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+        std::memset(mapped_, 0, size);
+    }
+}
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+    if (this != &o) {
+        reset();
+        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
+        buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
+        memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+        size_ = std::exchange(o.size_, 0);
+        mapped_ = std::exchange(o.mapped_, nullptr);
+    }
+    return *this;
+}
+
+void Buffer::reset() {
+    if (!device_) return;
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);  // unmaps implicitly
+    buffer_ = VK_NULL_HANDLE;
+    memory_ = VK_NULL_HANDLE;
+    mapped_ = nullptr;
+    device_ = VK_NULL_HANDLE;
+}
+
+Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+             uint32_t mip_levels)
+    : device_(device.device()), mips_(mip_levels) {
+    assert(extent.width > 0 && extent.height > 0);
+    ref_.format = format;
+    ref_.extent = extent;
+    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = format;
+    ici.extent = {extent.width, extent.height, 1};
+    ici.mipLevels = mip_levels;
+    ici.arrayLayers = 1;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VK_CHECK(vkCreateImage(device_, &ici, nullptr, &ref_.image));
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device_, ref_.image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex =
+        device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkAllocateMemory(device_, &mai, nullptr, &memory_));
+    VK_CHECK(vkBindImageMemory(device_, ref_.image, memory_, 0));
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = ref_.image;
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vci.format = format;
+    vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
+    VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &ref_.view));
+    if (mip_levels > 1) {
+        for (uint32_t m = 0; m < mip_levels; ++m) {
+            vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m, 1, 0, 1};
+            VkImageView v = VK_NULL_HANDLE;
+            VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &v));
+            mip_views_.push_back(v);
+        }
+    } else {
+        mip_views_.push_back(ref_.view);
+    }
+    const VkImage img = ref_.image;
+    device.submit_and_wait([&](VkCommandBuffer cmd) {
+        VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        b.srcAccessMask = 0;
+        b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.image = img;
+        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &b);
+        VkClearColorValue zero{};
+        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
+        vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
+    });
+}
+
+Image& Image::operator=(Image&& o) noexcept {
+    if (this != &o) {
+        reset();
+        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
+        memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+        ref_ = std::exchange(o.ref_, ImageRef{});
+        mips_ = std::exchange(o.mips_, 1);
+        mip_views_ = std::move(o.mip_views_);
+        o.mip_views_.clear();
+    }
+    return *this;
+}
+
+void Image::reset() {
+    if (!device_) return;
+    if (mips_ > 1)
+        for (VkImageView v : mip_views_) vkDestroyImageView(device_, v, nullptr);
+    mip_views_.clear();
+    if (ref_.view) vkDestroyImageView(device_, ref_.view, nullptr);
+    if (ref_.image) vkDestroyImage(device_, ref_.image, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+    ref_ = ImageRef{};
+    memory_ = VK_NULL_HANDLE;
+    device_ = VK_NULL_HANDLE;
+}
+
+ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
+                                 VkDescriptorSetLayout frame_set_layout,
+                                 std::span<const Binding> bindings, uint32_t push_bytes,
+                                 std::span<const uint32_t> spec_constants)
+    : device_(device.device()), push_bytes_(push_bytes) {
+    std::vector<VkDescriptorSetLayoutBinding> lb;
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
+        VkDescriptorSetLayoutBinding b{};
+        b.binding = i;
+        b.descriptorType = bindings[i].type;
+        b.descriptorCount = bindings[i].count;
+        b.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+        lb.push_back(b);
+        sizes.push_back({bindings[i].type, bindings[i].count * 8});
+    }
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = static_cast<uint32_t>(lb.size());
+    dl.pBindings = lb.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &set_layout_));
+    std::vector<VkDescriptorSetLayout> sets;
+    if (frame_set_layout) sets.push_back(frame_set_layout);
+    own_set_ = static_cast<uint32_t>(sets.size());
+    sets.push_back(set_layout_);
+    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = static_cast<uint32_t>(sets.size());
+    pl.pSetLayouts = sets.data();
+    pl.pushConstantRangeCount = push_bytes ? 1 : 0;
+    pl.pPushConstantRanges = &pcr;
+    VK_CHECK(vkCreatePipelineLayout(device_, &pl, nullptr, &layout_));
+    VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    smi.codeSize = spirv.size() * sizeof(uint32_t);
+    smi.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(device_, &smi, nullptr, &module));
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < spec_constants.size(); ++i)
+        entries.push_back({i, i * 4u, 4});
+    VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(),
+                              spec_constants.size() * 4, spec_constants.data()};
+    VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpi.stage.module = module;
+    cpi.stage.pName = "main";
+    cpi.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
+    cpi.layout = layout_;
+    const VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpi, nullptr,
+                                                &pipeline_);
+    vkDestroyShaderModule(device_, module, nullptr);
+    VK_CHECK(r);
+    if (!sizes.empty()) {
+        VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        dpi.maxSets = 8;
+        dpi.poolSizeCount = static_cast<uint32_t>(sizes.size());
+        dpi.pPoolSizes = sizes.data();
+        VK_CHECK(vkCreateDescriptorPool(device_, &dpi, nullptr, &pool_));
+    }
+}
+
+ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
+    if (this != &o) {
+        reset();
+        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
+        set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
+        layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
+        pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
+        pool_ = std::exchange(o.pool_, VK_NULL_HANDLE);
+        own_set_ = o.own_set_;
+        push_bytes_ = o.push_bytes_;
+    }
+    return *this;
+}
+
+void ComputePipeline::reset() {
+    if (!device_) return;
+    if (pool_) vkDestroyDescriptorPool(device_, pool_, nullptr);
+    if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
+    if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+    pool_ = VK_NULL_HANDLE;
+    pipeline_ = VK_NULL_HANDLE;
+    layout_ = VK_NULL_HANDLE;
+    set_layout_ = VK_NULL_HANDLE;
+    device_ = VK_NULL_HANDLE;
+}
+
+VkDescriptorSet ComputePipeline::allocate_set() {
+    assert(pool_ && "pipeline has no own bindings");
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = pool_;
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &set_layout_;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VK_CHECK(vkAllocateDescriptorSets(device_, &ai, &set));
+    return set;
+}
+
+void ComputePipeline::bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescriptorSet own,
+                           const void* push, uint32_t push_bytes) const {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    if (own_set_ == 1) {
+        assert(frame_set);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &frame_set,
+                                0, nullptr);
+    }
+    if (own)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, own_set_, 1, &own,
+                                0, nullptr);
+    if (push && push_bytes) {
+        assert(push_bytes <= push_bytes_);
+        vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
+    }
+}
+
+DescriptorWriter& DescriptorWriter::storage_image(uint32_t binding, VkImageView view) {
+    images_.push_back({VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images_.size() - 1, true});
+    return *this;
+}
+
+DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view,
+                                                  VkSampler sampler) {
+    images_.push_back({sampler, view, VK_IMAGE_LAYOUT_GENERAL});
+    pending_.push_back(
+        {binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, images_.size() - 1, true});
+    return *this;
+}
+
+DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t binding, const Buffer& buffer) {
+    buffers_.push_back(buffer.info());
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffers_.size() - 1, false});
+    return *this;
+}
+
+DescriptorWriter& DescriptorWriter::uniform_buffer(uint32_t binding, const Buffer& buffer) {
+    buffers_.push_back(buffer.info());
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, buffers_.size() - 1, false});
+    return *this;
+}
+
+void DescriptorWriter::commit() {
+    std::vector<VkWriteDescriptorSet> writes;
+    for (const Pending& p : pending_) {
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstSet = set_;
+        w.dstBinding = p.binding;
+        w.descriptorCount = 1;
+        w.descriptorType = p.type;
+        if (p.image)
+            w.pImageInfo = &images_[p.index];
+        else
+            w.pBufferInfo = &buffers_[p.index];
+        writes.push_back(w);
+    }
+    vkUpdateDescriptorSets(device_, static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                           nullptr);
+    pending_.clear();
+}
+
+void compute_barrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                         1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void indirect_barrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
+                       VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace fovea::vk
+
+namespace fovea::vk {
+
+void upload_image(const Device& device, const ImageRef& image, std::span<const uint8_t> texels) {
+    const VkDeviceSize bytes =
+        VkDeviceSize{image.extent.width} * image.extent.height * format_bytes(image.format);
+    assert(texels.size() == bytes);
+    Buffer staging(device, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    std::memcpy(staging.data(), texels.data(), bytes);
+    device.submit_and_wait([&](VkCommandBuffer cmd) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {image.extent.width, image.extent.height, 1};
+        vkCmdCopyBufferToImage(cmd, staging.get(), image.image, VK_IMAGE_LAYOUT_GENERAL, 1,
+                               &region);
+        VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        after.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &after, 0, nullptr, 0,
+                             nullptr);
+    });
+}
+
+}  // namespace fovea::vk

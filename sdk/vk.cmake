@@ -1,0 +1,34 @@
+# fovea::vk — the Vulkan foveation module (DESIGN.md §5). Included by sdk/CMakeLists.txt when
+# FOVEA_BUILD_VK. Sources: every sdk/src/vk/**/*.cpp (methods and post passes add files, plus one
+# registry line); shaders: every shaders/*.comp|*.glsl (cmake/FoveaShaders.cmake).
+find_package(Vulkan REQUIRED)
+find_package(glslang CONFIG REQUIRED)
+include(FoveaShaders)
+
+file(GLOB_RECURSE _fovea_vk_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/vk/*.cpp)
+add_library(fovea_vk STATIC ${_fovea_vk_sources})
+add_library(fovea::vk ALIAS fovea_vk)
+target_include_directories(fovea_vk
+    PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src/vk ${PROJECT_SOURCE_DIR}/shaders)
+target_link_libraries(fovea_vk
+    PUBLIC fovea_headers Vulkan::Vulkan
+    PRIVATE glslang::glslang glslang::SPIRV glslang::glslang-default-resource-limits
+            Threads::Threads)
+fovea_embed_shaders(fovea_vk ${PROJECT_SOURCE_DIR}/shaders)
+fovea_target_defaults(fovea_vk)
+# Vulkan structs are initialised as `VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};` (the rest zero).
+target_compile_options(fovea_vk PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wno-missing-field-initializers>)
+
+# Internal headers (gpu.hpp, method.hpp, ...) for the demo host, GPU tests and benchmarks in this
+# tree; not installed.
+add_library(fovea_vk_internal INTERFACE)
+add_library(fovea::vk_internal ALIAS fovea_vk_internal)
+target_include_directories(fovea_vk_internal INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/src/vk)
+target_link_libraries(fovea_vk_internal INTERFACE fovea_vk)
+target_compile_options(fovea_vk_internal INTERFACE
+    $<$<CXX_COMPILER_ID:GNU,Clang>:-Wno-missing-field-initializers>)
+
+# The CPU half of the shared acuity model must round like the GPU half (`precise`, no FMA).
+set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/vk/acuity.cpp PROPERTIES
+    COMPILE_OPTIONS "$<$<CXX_COMPILER_ID:GNU,Clang>:-ffp-contract=off>")
