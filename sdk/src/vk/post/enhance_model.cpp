@@ -35,7 +35,7 @@ float interp(const std::array<float, N>& xs, const std::array<float, N>& ys, flo
 }
 
 Image reduce_minmax(const Image& src, bool take_max) {
-    Image dst(std::max(1, (src.width + 1) / 2), std::max(1, (src.height + 1) / 2), 1);
+    Image dst(std::max(1, src.width / 2), std::max(1, src.height / 2), 1);  // Vulkan mip sizes
     for (int y = 0; y < dst.height; ++y) {
         for (int x = 0; x < dst.width; ++x) {
             const float a = src.fetch(2 * x, 2 * y);
@@ -141,7 +141,7 @@ MipChain gaussian_pyramid(const Image& luma, int levels) {
     while (int(chain.size()) < levels && (chain.back().width > 1 || chain.back().height > 1)) {
         const Image& src = chain.back();
         // Separable blur evaluated only at the even (kept) positions.
-        Image dst(std::max(1, (src.width + 1) / 2), std::max(1, (src.height + 1) / 2), 1);
+        Image dst(std::max(1, src.width / 2), std::max(1, src.height / 2), 1);  // Vulkan mip sizes
         for (int y = 0; y < dst.height; ++y) {
             for (int x = 0; x < dst.width; ++x) {
                 float acc = 0.0f;
@@ -200,6 +200,22 @@ float laplacian_level_for_blur(float sigma_px, float p) {
 float blur_lod(float sigma_px) {
     if (!(sigma_px > 0.0f)) return 0.0f;
     return std::log2(1.0f + std::numbers::sqrt2_v<float> * std::min(sigma_px, 1e6f));
+}
+
+float blur_sigma_for_rate(float s) {
+    s = std::isfinite(s) ? std::clamp(s, 0.0f, 1.0f) : 1.0f;
+    const float edge = std::exp2(2.0f * s);
+    return std::sqrt(std::max(edge * edge - 1.0f, 0.0f) / 12.0f);
+}
+
+float display_encode(float c) {
+    c = std::isfinite(c) ? std::max(c, 0.0f) : (c > 0 ? 3e38f : 0.0f);
+    return std::pow(c / (1.0f + c), 1.0f / 2.2f);
+}
+
+float display_decode(float d) {
+    const float t = std::pow(std::clamp(d, 0.0f, 1.0f), 2.2f);
+    return std::min(t, 0.99999f) / (1.0f - std::min(t, 0.99999f));
 }
 
 Image contrast_enhance(const Image& luma, const Image& sigma_px, float f_e) {
@@ -325,7 +341,10 @@ Image noise_parameters(const NoiseInputs& in, const NoiseParams& p) {
 }
 
 Image gabor_noise(const NoiseInputs& in, const NoiseParams& p) {
-    const Image params = noise_parameters(in, p);
+    return synthesize_gabor_noise(noise_parameters(in, p), p);
+}
+
+Image synthesize_gabor_noise(const Image& params, const NoiseParams& p) {
     const int w = params.width;
     const int h = params.height;
     const float a = p.kernel_bandwidth;

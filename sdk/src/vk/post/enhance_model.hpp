@@ -49,7 +49,7 @@ float approx_erfinv(float x);
 
 // ---- pyramids -----------------------------------------------------------------------------------
 
-// Burt–Adelson: 5-tap binomial blur then decimation by 2 (ceil sizes), clamp-to-edge.
+// Burt–Adelson: 5-tap binomial blur then decimation by 2 (Vulkan mip sizes), clamp-to-edge.
 MipChain gaussian_pyramid(const Image& luma, int levels);
 // L_l = G_l − expand(G_{l+1}) (bilinear expand); the last level is the Gaussian residual.
 MipChain laplacian_pyramid(const MipChain& gaussian);
@@ -66,7 +66,15 @@ float laplacian_level_for_blur(float sigma_px, float p);
 // filtering is a blur of σ ≈ 2^l/√2 (binomial variance (4^l − 1)/3 plus the bilinear's 4^l/6).
 float blur_lod(float sigma_px);
 // out = I + f_e(1 + σ)(I − I_avg), clamped to [0, 1]. σ = 0 leaves a pixel untouched.
+// Reading the "I_avg + f_e(1 + σ)(I − I_avg)" literally would *remove* detail wherever
+// f_e(1 + σ) < 1; Tariq §5 describes f_e as scaling the detail *added*, which this form does.
 Image contrast_enhance(const Image& luma, const Image& sigma_px, float f_e);
+// The blur a coarse pixel of normalized rate S stands for: edge 4^S pixels (S = 0, ½, 1 →
+// 1, 2, 4), σ² = (edge² − 1)/12 (box variance beyond the pixel's own).
+float blur_sigma_for_rate(float s);
+// Display-referred value of a linear HDR channel: (c/(1 + c))^(1/2.2), and its inverse.
+float display_encode(float linear);
+float display_decode(float display);
 
 // ---- Gabor noise (Tariq 2022 §4) ---------------------------------------------------------------
 
@@ -95,7 +103,9 @@ int impulses_per_cell(int impulses_per_kernel);
 // Per-pixel Gabor parameters (4 channels): amplitude K (already limited by the local min/max
 // headroom), orientation ω in radians, F_L, F_H. An empty band has K = 0. Exposed for GPU tests.
 Image noise_parameters(const NoiseInputs& in, const NoiseParams& p);
-// The additive noise image (1 channel), std ≈ K locally.
+// Sparse Gabor convolution over the parameter image (Tariq §4.4): 1 channel, std ≈ K locally.
+Image synthesize_gabor_noise(const Image& parameters, const NoiseParams& p);
+// noise_parameters() then synthesize_gabor_noise(): the additive noise image.
 Image gabor_noise(const NoiseInputs& in, const NoiseParams& p);
 
 // 32-bit integer hash (lowbias32) and its use as a uniform stream; identical in GLSL.

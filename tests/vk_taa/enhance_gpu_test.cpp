@@ -1,0 +1,90 @@
+// GPU contrast enhancement against the CPU reference, validation layers on. Skips without a
+// Vulkan device.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "enhance_model.hpp"
+#include "gpu_harness.hpp"
+#include "test_images.hpp"
+
+namespace fovea::vk {
+std::unique_ptr<PostPass> make_contrast_pass();
+}
+
+namespace fovea::vk::post {
+namespace {
+
+using vk::testing::PassRunner;
+
+class GpuContrast : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        device_ = vk::testing::make_device(why);
+        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
+    }
+    void TearDown() override {
+        if (device_) {
+            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
+        }
+    }
+    std::unique_ptr<Device> device_;
+};
+
+TEST_F(GpuContrast, MatchesTheCpuModelAcrossShadingRates) {
+    const int w = 64, h = 48;
+    PassRunner run(*device_, {uint32_t(w), uint32_t(h)}, {"contrast.blur_rate=0.57"});
+    auto pass = make_contrast_pass();
+    ASSERT_TRUE(run.init(*pass).ok());
+    // Grey linear colour whose display luminance is pink noise; S_t grows left to right.
+    const Image target = testing::pink_noise(w, h);
+    Image colour(w, h, 3), rate(w, h, 1), sigma(w, h, 1), luma(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float lin = round_to_half(display_decode(target.at(x, y)));
+            for (int c = 0; c < 3; ++c) colour.at(x, y, c) = lin;
+            rate.at(x, y) = round_to_half(float(x) / float(w - 1));
+            sigma.at(x, y) = blur_sigma_for_rate(rate.at(x, y));
+            luma.at(x, y) = display_encode(lin);
+        }
+    run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), rate);
+    run.run(*pass, 1);
+    const Image gpu = run.output();
+    const Image cpu = contrast_enhance(luma, sigma, calibration_for_blur_rate(0.57f).f_e);
+    float worst = 0;
+    double changed = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float g = display_encode(gpu.at(x, y, 1));
+            worst = std::max(worst, std::fabs(g - cpu.at(x, y)));
+            changed += std::fabs(cpu.at(x, y) - luma.at(x, y));
+        }
+    std::printf("GPU vs CPU contrast enhancement: max display difference %.5f; mean change by "
+                "the enhancement %.5f\n", worst, changed / (w * h));
+    EXPECT_LT(worst, 2.0f / 255.0f);
+    EXPECT_GT(changed / (w * h), 0.5 / 255.0);  // the pass really changed the periphery
+    for (int y = 0; y < h; ++y) {  // S_t = 0: untouched (up to the half-float round trip)
+        EXPECT_NEAR(display_encode(gpu.at(0, y, 1)), luma.at(0, y), 1.0f / 255.0f);
+    }
+}
+
+TEST_F(GpuContrast, HdrZerosAndNonFiniteInputStayFinite) {
+    const int w = 16, h = 16;
+    PassRunner run(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto pass = make_contrast_pass();
+    ASSERT_TRUE(run.init(*pass).ok());
+    Image colour(w, h, 3, 0.0f);
+    for (int x = 0; x < w; ++x) colour.at(x, 3, 0) = colour.at(x, 3, 1) = 1e4f;
+    colour.at(5, 5, 0) = NAN;
+    colour.at(6, 6, 2) = INFINITY;
+    run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), Image(w, h, 1, 1.0f));
+    run.run(*pass, 1);
+    const Image out = run.output();
+    for (float v : out.data) ASSERT_TRUE(std::isfinite(v));
+    EXPECT_EQ(out.at(0, 10, 0), 0.0f);  // black stays black
+}
+
+}  // namespace
+}  // namespace fovea::vk::post
