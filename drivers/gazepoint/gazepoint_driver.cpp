@@ -114,7 +114,7 @@ public:
         info.name = "Gazepoint (Open Gaze API)";
         info.address = config_.host + ":" + config_.port;
         info.nominal_rate_hz = config_.rate_hz > 0 ? config_.rate_hz : measured_rate_hz_;
-        info.clock = {64, clock_.tick_hz > 0 ? clock_.tick_hz : 1e6};
+        info.clock = {64, clock_.tick_hz > 0 ? clock_.tick_hz : config_.tick_hz};
         info.binocular = config_.gaze == GazeSource::kEyes;
         info.has_pupil = true;
         return info;
@@ -347,7 +347,9 @@ Result<GazepointConfig> parse_config(const toml::table& t) {
     check(read_key(t, "rate_hz", c.rate_hz));
     check(read_key(t, "reconnect_min_ms", rmin));
     check(read_key(t, "reconnect_max_ms", rmax));
+    check(read_key(t, "tick_hz", c.tick_hz));
     if (!r.ok()) return r.error();
+    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10)) return make_error("gazepoint: tick_hz must be 1..1e10");
     // host:port, [v6]:port, or a bare host (default port).
     std::string host = address, port = std::to_string(kDefaultPort);
     if (!address.empty() && address.front() == '[') {

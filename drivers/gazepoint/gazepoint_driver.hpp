@@ -12,7 +12,8 @@ namespace fovea::drivers::gazepoint {
 
 // `[[device]]` keys: address ("host:port", default "127.0.0.1:4242"), gaze ("eyes": LPOG/RPOG
 // per eye, or "best": BPOG in both), rate_hz (nominal rate to report; default: measured),
-// reconnect_min_ms, reconnect_max_ms.
+// reconnect_min_ms, reconnect_max_ms, tick_hz (TIME_TICK frequency describe() reports until
+// the server acknowledges TIME_TICK_FREQUENCY; 10 MHz is Windows' usual QPC rate).
 struct GazepointConfig {
     std::string host = "127.0.0.1";
     std::string port = "4242";
@@ -20,6 +21,7 @@ struct GazepointConfig {
     double rate_hz = 0.0;
     int reconnect_min_ms = 100;
     int reconnect_max_ms = 2000;
+    double tick_hz = 1e7;
 };
 
 Result<GazepointConfig> parse_config(const toml::table& config);

@@ -111,7 +111,8 @@ public:
         info.address = config_.port;
         info.name = hello_ ? hello_->name : "serial tracker (no hello yet)";
         info.nominal_rate_hz = hello_ ? hello_->rate_mhz / 1000.0 : config_.rate_hz;
-        if (hello_) info.clock = {hello_->counter_bits, static_cast<double>(hello_->tick_hz)};
+        info.clock = hello_ ? gaze::DeviceClock{hello_->counter_bits, static_cast<double>(hello_->tick_hz)}
+                            : gaze::DeviceClock{config_.counter_bits, config_.tick_hz};
         info.binocular = hello_ ? hello_->binocular : true;
         info.has_pupil = hello_ ? hello_->has_pupil : false;
         return info;
@@ -238,6 +239,11 @@ private:
             stats_.resyncs = decoder_.stats().resyncs;
             if (f.type == static_cast<uint8_t>(FrameType::kHello)) {
                 if (auto h = decode_hello(f.payload, &why)) {
+                    if (h->counter_bits != config_.counter_bits ||
+                        h->tick_hz != static_cast<uint32_t>(config_.tick_hz)) {
+                        bad_frames_.warn(config_.port + ": device clock differs from the configured "
+                                         "counter_bits/tick_hz; set them in the [[device]] table");
+                    }
                     if (!hello_) {
                         logger()->info("{}: '{}' protocol v{}, {} Hz, {}-bit counter at {} Hz",
                                        config_.port, h->name, h->protocol_version,
@@ -333,6 +339,7 @@ private:
 Result<SerialConfig> parse_config(const toml::table& t) {
     SerialConfig c;
     int64_t baud = c.baud, rmin = c.reconnect_min_ms, rmax = c.reconnect_max_ms;
+    int64_t bits = c.counter_bits;
     Result<void> r;
     const auto check = [&](Result<void> res) {
         if (r.ok() && !res.ok()) r = res;
@@ -342,7 +349,12 @@ Result<SerialConfig> parse_config(const toml::table& t) {
     check(read_key(t, "rate_hz", c.rate_hz));
     check(read_key(t, "reconnect_min_ms", rmin));
     check(read_key(t, "reconnect_max_ms", rmax));
+    check(read_key(t, "counter_bits", bits));
+    check(read_key(t, "tick_hz", c.tick_hz));
     if (!r.ok()) return r.error();
+    if (bits != 16 && bits != 32 && bits != 64) return make_error("serial: counter_bits must be 16, 32 or 64");
+    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10)) return make_error("serial: tick_hz must be 1..1e10");
+    c.counter_bits = static_cast<int>(bits);
     if (c.port.empty()) return make_error("serial: 'port' is required (e.g. port = \"/dev/ttyACM0\")");
     if (baud < 50 || baud > 20'000'000) return make_error("serial: baud must be 50..20000000");
     if (c.rate_hz != 0 && !(c.rate_hz >= 1 && c.rate_hz <= 10000))
