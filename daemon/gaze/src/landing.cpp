@@ -5,7 +5,15 @@
 
 namespace fovea::gaze {
 
-LandingPredictor::LandingPredictor(const LandingParams& params) : p_(params) {}
+LandingPredictor::LandingPredictor(const LandingParams& params) : p_(params) {
+    const double a = std::max(1.0, p_.profile_a), b = std::max(1.0, p_.profile_b);
+    cdf_[0] = 0.0;
+    for (int i = 0; i < kSteps; ++i) {
+        const double tau = (i + 0.5) / kSteps;
+        cdf_[i + 1] = cdf_[i] + std::pow(tau, a - 1.0) * std::pow(1.0 - tau, b - 1.0);
+    }
+    for (auto& v : cdf_) v /= cdf_[kSteps];
+}
 
 double LandingPredictor::duration_s(double a) const {
     return (p_.duration_slope_ms * a + p_.duration_intercept_ms) * 1e-3;
@@ -13,11 +21,11 @@ double LandingPredictor::duration_s(double a) const {
 
 double LandingPredictor::profile(double tau, double amplitude_deg) const {
     (void)amplitude_deg;
-    if (tau <= 0.0) return 0.0;
+    if (!(tau > 0.0)) return 0.0;
     if (tau >= 1.0) return 1.0;
-    // Minimum-jerk position profile: bell-shaped velocity, peak 1.875 x mean.
-    const double t3 = tau * tau * tau;
-    return t3 * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+    const double u = tau * kSteps;
+    const int i = static_cast<int>(u);
+    return cdf_[i] + (u - i) * (cdf_[i + 1] - cdf_[i]);
 }
 
 LandingEstimate LandingPredictor::predict(std::span<const double> t_s,

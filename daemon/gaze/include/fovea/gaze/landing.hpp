@@ -4,6 +4,7 @@
 // direction, is the landing point; its uncertainty shrinks as more of the saccade is seen.
 #pragma once
 
+#include <array>
 #include <span>
 
 namespace fovea::gaze {
@@ -15,6 +16,11 @@ struct LandingParams {
     double duration_slope_ms = 2.6;  // D = slope * A + intercept
     double duration_intercept_ms = 17.0;
     int max_fit_points = 12;  // observed samples used by the fit (evenly spaced)
+    // Velocity profile ~ Beta(a, b) in normalised time; (3, 3) is minimum jerk. Early-peaked
+    // shapes closer to the labelled data's mean profile (~(1.5, 2)) make the amplitude fit
+    // unstable early in flight (README.md, "Landing prediction"), so the default stays (3, 3).
+    double profile_a = 3.0;
+    double profile_b = 3.0;
 };
 
 struct LandingEstimate {
@@ -39,7 +45,9 @@ public:
     double profile(double tau, double amplitude_deg) const;
 
 private:
+    static constexpr int kSteps = 256;
     LandingParams p_;
+    std::array<double, kSteps + 1> cdf_{};  // position profile table
 };
 
 }  // namespace fovea::gaze
