@@ -8,7 +8,8 @@ if(NOT TARGET fovea_post_model)
         ${_post_dir}/enhance_model.cpp
         ${_post_dir}/metrics_model.cpp
         ${_post_dir}/saccade_model.cpp
-        ${_post_dir}/bench_metrics.cpp)
+        ${_post_dir}/bench_metrics.cpp
+        ${_post_dir}/stability_model.cpp)
     target_include_directories(fovea_post_model PUBLIC ${_post_dir})
     fovea_target_defaults(fovea_post_model)
 endif()
