@@ -72,3 +72,31 @@ TEST(RadialBandEnergy, FindsASinusoidAtItsFrequency) {
 
 }  // namespace
 }  // namespace fovea::vk::post
+
+#include "bench_metrics.hpp"
+
+namespace fovea::vk::post {
+namespace {
+
+TEST(BenchMetrics, AtdAccumulatorAndRecoveryCounterOnKnownFrames) {
+    AtdAccumulator atd;
+    const Image a(8, 8, 3, 1.0f), b(8, 8, 3, 3.0f);
+    atd.add_frame(a, nullptr);
+    atd.add_frame(b, nullptr);
+    atd.add_frame(a, nullptr);
+    EXPECT_EQ(atd.frames(), 2);
+    EXPECT_NEAR(atd.mean(), 0.25, 1e-6);
+    RecoveryCounter rc(4, 4, 3);
+    rc.add_frame(b);
+    rc.add_frame(Image(8, 8, 3, 1.01f));
+    rc.add_frame(a);
+    EXPECT_EQ(rc.frames(a), 2);  // 1.01 is within 1/255 in tone-mapped luminance
+    std::vector<std::uint8_t> bytes(2 * 2 * 2 * 2, 0);
+    bytes[1] = 0x3c;  // 1.0 in half
+    const Image h = decode_half_image(bytes, 2, 2, 2, 1);
+    EXPECT_EQ(h.at(0, 0), 1.0f);
+    EXPECT_EQ(h.at(1, 0), 0.0f);
+}
+
+}  // namespace
+}  // namespace fovea::vk::post

@@ -4,6 +4,8 @@
 #include <cstring>
 
 #include "metrics_model.hpp"
+#include "saccade_model.hpp"
+#include "stability_model.hpp"
 
 namespace fovea::vk::post {
 
@@ -39,6 +41,28 @@ Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int h
         }
     }
     return img;
+}
+
+ModelPostFigures model_post_figures() {
+    ModelPostFigures f;
+    const StabilityResult s = measure_temporal_stability({}, {});
+    f.atd = s.atd_cps_taa;
+    f.atd_no_taa = s.atd_cps;
+    f.atd_full_taa = s.atd_full_taa;
+    // Same content as the saccade test: smooth colour texture, 4 px/deg, 20° jump.
+    Image sharp(160, 64, 3);
+    for (int y = 0; y < sharp.height; ++y)
+        for (int x = 0; x < sharp.width; ++x) {
+            const float fx = float(x) * 0.45f, fy = float(y) * 0.35f;
+            sharp.at(x, y, 0) = 0.5f + 0.4f * std::sin(fx) * std::cos(fy);
+            sharp.at(x, y, 1) = 0.5f + 0.4f * std::sin(0.7f * fx + 1.0f) * std::sin(fy);
+            sharp.at(x, y, 2) = 0.5f + 0.4f * std::cos(0.5f * fx + 0.8f * fy);
+        }
+    TaaParams with, without;
+    without.saccade.enabled = false;
+    f.saccade_recovery_frames = measure_saccade_recovery(sharp, {}, with).frames;
+    f.saccade_recovery_frames_no_term = measure_saccade_recovery(sharp, {}, without).frames;
+    return f;
 }
 
 void AtdAccumulator::add_frame(const Image& linear_rgb, const Image* motion) {

@@ -19,6 +19,18 @@ namespace fovea::vk::post {
 Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int height,
                         int stored_channels, int keep_channels);
 
+// The same figures from the reference-model experiments (coarse pixel shading emulated on an
+// analytic scene: stability_model.hpp, saccade_model.hpp), for when the bench has no per-frame
+// read-back yet. Deterministic; takes ~10 s of CPU.
+struct ModelPostFigures {
+    double atd = 0;                      // cps + TAA, slow pan
+    double atd_no_taa = 0;               // cps, slow pan
+    double atd_full_taa = 0;             // full rate + TAA, slow pan
+    int saccade_recovery_frames = 0;     // 20° jump, 1/255, saccade-aware α
+    int saccade_recovery_frames_no_term = 0;
+};
+ModelPostFigures model_post_figures();
+
 class AtdAccumulator {
 public:
     // `linear_rgb`: this frame's output (≥ 3 channels); `motion`: current − previous, pixels.
