@@ -10,12 +10,21 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 jobs="${FOVEA_JOBS:-$(nproc)}"
 
-configure_build() {  # dir, extra cmake args...
+configure() {  # dir, extra cmake args...
     local dir="$1"; shift
     cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > "$dir.configure.log" 2>&1 \
         || { cat "$dir.configure.log"; exit 1; }
-    cmake --build "$dir" -j "$jobs"
 }
+configure_build() { configure "$@"; cmake --build "$1" -j "$jobs"; }
+build_targets() {  # dir, targets...: sanitizer trees build only what their test labels run
+    local dir="$1"; shift
+    cmake --build "$dir" -j "$jobs" --target "$@"
+}
+# Executables behind the labels the sanitizer runs select (tests not built are skipped by ctest).
+asan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test test_drivers_sim
+    test_drivers_serial test_drivers_gazepoint test_drivers_replay gaze_unit_tests hid_parser_test
+    usb_test record_tests)
+tsan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test)
 
 step() { printf '\n== %s ==\n' "$*"; }
 
@@ -49,18 +58,23 @@ run_tests() {
     (cd build/main && ctest --output-on-failure -j "$jobs" --timeout 900)
 
     step "ASan+UBSan: ring, daemon, drivers, gaze"
-    configure_build build/asan -DFOVEA_SANITIZE=address,undefined -DFOVEA_BUILD_VK=OFF
+    configure build/asan -DFOVEA_SANITIZE=address,undefined -DFOVEA_BUILD_VK=OFF
+    build_targets build/asan "${asan_targets[@]}"
     (cd build/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-        ctest --output-on-failure -j "$jobs" -L 'ring|daemon|drivers|gaze|record' -LE slow)
+        ctest --output-on-failure -j "$jobs" -L 'ring|daemon|drivers|gaze|hid|usb|record' -LE slow)
 
     step "TSan: ring and daemon"
-    configure_build build/tsan -DFOVEA_SANITIZE=thread -DFOVEA_BUILD_VK=OFF
+    configure build/tsan -DFOVEA_SANITIZE=thread -DFOVEA_BUILD_VK=OFF
+    build_targets build/tsan "${tsan_targets[@]}"
     (cd build/tsan && TSAN_OPTIONS=halt_on_error=1 \
         ctest --output-on-failure -j "$jobs" -L 'ring|daemon' -LE slow)
 
     if [ -f tests/fuzz/CMakeLists.txt ]; then
         step "fuzz smoke (libFuzzer, clang)"
-        CC=clang CXX=clang++ configure_build build/fuzz -DFOVEA_FUZZ=ON -DFOVEA_BUILD_VK=OFF
+        CC=clang CXX=clang++ configure build/fuzz -DFOVEA_FUZZ=ON -DFOVEA_BUILD_VK=OFF \
+            -DFOVEA_BUILD_TESTS=ON
+        mapfile -t fuzzers < <(cd tests/fuzz && ls fuzz_*.cpp | sed 's/\.cpp$//')
+        build_targets build/fuzz "${fuzzers[@]}"
         (cd build/fuzz && ctest --output-on-failure -L fuzz)
     fi
     step "all tests passed"
