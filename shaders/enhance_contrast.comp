@@ -48,6 +48,7 @@ void main() {
     float a = 0.0;
     float b = 0.0;
     for (int l = 0; l < pc.levels; ++l) {
+        if (l != l0 && l != l0 + 1) continue;
         float v = fetch_level(px, full, l);
         if (l == l0) a = v;
         if (l == l0 + 1) b = v;

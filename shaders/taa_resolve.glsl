@@ -53,10 +53,12 @@ vec3 fetch_trilinear(sampler2D t, vec2 px, vec2 full, float lod) {
     float f = lod - float(l0);
     vec3 a = vec3(0.0);
     vec3 b = vec3(0.0);
+    int l1 = min(l0 + 1, pc.levels - 1);
     for (int l = 0; l < pc.levels; ++l) {
+        if (l != l0 && l != l1) continue;
         vec3 v = fetch_level(t, px, full, l);
         if (l == l0) a = v;
-        if (l == min(l0 + 1, pc.levels - 1)) b = v;
+        if (l == l1) b = v;
     }
     return f > 0.0 ? a + (b - a) * f : a;
 }

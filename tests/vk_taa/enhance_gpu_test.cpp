@@ -2,7 +2,10 @@
 // Vulkan device.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 
 #include "enhance_model.hpp"
@@ -84,6 +87,51 @@ TEST_F(GpuContrast, HdrZerosAndNonFiniteInputStayFinite) {
     const Image out = run.output();
     for (float v : out.data) ASSERT_TRUE(std::isfinite(v));
     EXPECT_EQ(out.at(0, 10, 0), 0.0f);  // black stays black
+}
+
+}  // namespace
+}  // namespace fovea::vk::post
+
+namespace fovea::vk {
+std::unique_ptr<PostPass> make_taa_pass();
+}
+
+namespace fovea::vk::post {
+namespace {
+
+// Cost of the post chain at 1080p (a measurement, not a pass/fail timing: run with
+// FOVEA_POST_COST=1). Prints ms per frame for TAA, contrast and both; medians of 3 batches.
+TEST_F(GpuContrast, PostChainCostAt1080p) {
+    if (!std::getenv("FOVEA_POST_COST")) GTEST_SKIP() << "set FOVEA_POST_COST=1 to measure";
+    const int w = 1920, h = 1080;
+    const Image colour = testing::texture(w, h, 1.5f);
+    Image rate(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            rate.at(x, y) = std::min(1.0f, std::hypot(x - w / 2.0f, y - h / 2.0f) / 600.0f);
+    auto measure = [&](PostPass& pass, PassRunner& run) {
+        run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), rate);
+        run.run(pass, 1);  // warm-up
+        std::vector<double> ms;
+        for (int i = 0; i < 3; ++i) {
+            const auto t0 = std::chrono::steady_clock::now();
+            run.run(pass, 2);
+            ms.push_back(std::chrono::duration<double, std::milli>(
+                             std::chrono::steady_clock::now() - t0).count() / 2.0);
+        }
+        std::sort(ms.begin(), ms.end());
+        return ms[1];
+    };
+    PassRunner r1(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto taa = make_taa_pass();
+    ASSERT_TRUE(r1.init(*taa).ok());
+    const double taa_ms = measure(*taa, r1);
+    PassRunner r2(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto con = make_contrast_pass();
+    ASSERT_TRUE(r2.init(*con).ok());
+    const double con_ms = measure(*con, r2);
+    std::printf("post chain at %dx%d on %s: taa %.1f ms, contrast %.1f ms, total %.1f ms/frame\n",
+                w, h, device_->name().c_str(), taa_ms, con_ms, taa_ms + con_ms);
 }
 
 }  // namespace
