@@ -80,7 +80,8 @@ TEST(SimGroundTruth, EventKappaOnlineAndOffline) {
         for (Event e : kScoredEvents) std::printf("sim %s %-8s kappa %.3f\n", m, event_name(e), a[e].kappa());
         EXPECT_GT(a[Event::kSaccade].kappa(), 0.8) << m;
         EXPECT_GT(a[Event::kFixation].kappa(), 0.6) << m;
-        EXPECT_GT(a[Event::kPursuit].kappa(), 0.5) << m;
+        // Online (100 ms look-ahead) sees less of the pursuit window (README.md).
+        EXPECT_GT(a[Event::kPursuit].kappa(), mode == DetectorMode::kOnline ? 0.35 : 0.5) << m;
         EXPECT_GT(a[Event::kBlink].kappa(), 0.7) << m;
     }
 }

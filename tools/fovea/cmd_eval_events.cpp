@@ -17,6 +17,7 @@ struct Options {
     std::string dir;
     std::string mode = "offline";
     bool json = false;
+    double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
 };
 
 struct Published {
@@ -60,9 +61,15 @@ int run(const Options& o) {
         std::fprintf(stderr, "eval-events: %s\n", set.error().message.c_str());
         return 1;
     }
+    if (!(o.lookahead_ms > 0) || o.lookahead_ms > 10000) {
+        std::fprintf(stderr, "eval-events: --lookahead-ms must be in (0, 10000]\n");
+        return 2;
+    }
+    gaze::DetectorParams params;
+    params.lookahead_s = o.lookahead_ms * 1e-3;
     std::vector<std::vector<gaze::Event>> detections;
     for (const auto& rec : set->recordings) {
-        detections.push_back(gaze::run_pipeline(*rec.data, mode));
+        detections.push_back(gaze::run_pipeline(*rec.data, mode, params));
     }
     const gaze::EvalResult result = gaze::score(*set, detections);
     if (o.json) {
@@ -78,8 +85,9 @@ int run(const Options& o) {
         return 0;
     }
     for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
-    std::printf("eval-events: %zu recordings, %zu samples scored, mode %s\n",
-                set->recordings.size(), result.samples, o.mode.c_str());
+    std::printf("eval-events: %zu recordings, %zu samples scored, mode %s%s\n",
+                set->recordings.size(), result.samples, o.mode.c_str(),
+                o.mode == "online" ? (", look-ahead " + std::to_string(static_cast<int>(o.lookahead_ms)) + " ms").c_str() : "");
     std::printf("%-6s %-9s %7s %7s %7s | %7s %7s %-9s %7s\n", "stim", "event", "MN", "RA", "both",
                 "humans", "best", "(algo)", "target");
     auto cell = [](double v) {
@@ -115,6 +123,8 @@ void setup(CLI::App& app) {
     app.add_option("dir", o->dir, "Directory of labelled CSV files (lund2013 format)")->required();
     app.add_option("--mode", o->mode, "Detector mode: offline (whole recording) or online");
     app.add_flag("--json", o->json, "Print one JSON object");
+    app.add_option("--lookahead-ms", o->lookahead_ms,
+                   "Online mode: look-ahead bound in ms (the daemon's setting)");
     app.callback([o] {
         const int rc = run(*o);
         if (rc != 0) throw CLI::RuntimeError(rc);

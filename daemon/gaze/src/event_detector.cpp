@@ -22,13 +22,13 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     rate_ = std::isfinite(nominal_rate_hz) && nominal_rate_hz > 0 ? nominal_rate_hz : 1000.0;
     k_ = samples_for(p_.velocity_half_window_s, rate_, 1);
     w_ = samples_for(p_.smooth_half_window_s, rate_, 2);
-    // Online: at least the velocity window, one sample for the local-minimum test and the
-    // pursuit window must fit, or labels would be forced before they are known.
-    const int needed = k_ + 2 + w_;
+    // Online: at least the velocity window and one sample for the local-minimum test; the
+    // pursuit window is then truncated at the newest sample (decided with what is known).
+    const int needed = k_ + 2;
     if (mode_ == DetectorMode::kOnline) {
         lookahead_ = std::max(needed, samples_for(p_.lookahead_s, rate_, 1));
     } else {
-        lookahead_ = std::max(needed, samples_for(2.0, rate_, 1));  // effectively unbounded
+        lookahead_ = std::max(needed + w_, samples_for(2.0, rate_, 1));  // effectively unbounded
     }
     history_ = std::max(k_, w_) + 2;
     peak_ = p_.initial_peak_dps;
