@@ -186,10 +186,8 @@ private:
 
     void send(std::vector<uint8_t> bytes) {
         auto buf = std::make_shared<std::vector<uint8_t>>(std::move(bytes));
-        boost::asio::async_write(*port_, boost::asio::buffer(*buf),
-                                 [buf, token = std::weak_ptr<int>(alive_)](auto, std::size_t) {
-                                     // A failed write shows up as a failed read too.
-                                 });
+        // A failed write shows up as a failed read too; `buf` lives until the write completes.
+        boost::asio::async_write(*port_, boost::asio::buffer(*buf), [buf](auto, std::size_t) {});
     }
 
     void read() {
