@@ -16,7 +16,8 @@ endif()
 
 function(fovea_target_defaults target)
     target_compile_options(${target} PRIVATE
-        $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow=local>
+        $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic>
+        $<$<COMPILE_LANG_AND_ID:CXX,GNU>:-Wshadow=local>
         $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-Wall -Wextra -Wpedantic>)
     if(FOVEA_WERROR)
         target_compile_options(${target} PRIVATE -Werror)
