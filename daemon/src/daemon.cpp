@@ -132,6 +132,14 @@ Result<void> Daemon::start() {
     auto ring = ring::RingWriter::create(ro);
     if (!ring) return make_error("ring: " + ring.error().message);
     gaze_ring_ = std::move(ring).value();
+    ro.kind = FOVEA_STREAM_HEAD;
+    auto head = ring::RingWriter::create(ro);
+    if (!head) return make_error("head ring: " + head.error().message);
+    head_ring_ = std::move(head).value();
+    for (auto& d : devices_) {
+        Device* dev = d.get();
+        dev->driver->set_head_sink([this, dev](const drivers::HeadPose& p) { publish_head(*dev, p); });
+    }
 
     register_commands();
     attach_recording(*this);  // record.* / latency.* commands and status sections
@@ -201,6 +209,25 @@ void Daemon::publish(Device& d, gaze::GazeSample& s) {
     for (auto& o : published_observers_) o(s, rec);
 }
 
+void Daemon::publish_head(Device& d, const drivers::HeadPose& pose) {
+    fovea_head_record rec{};
+    // Head reports carry the device counter, but only the gaze chain maps it to host time: the
+    // receive stamp stands in for capture until head streams get their own ClockSync.
+    rec.t_capture_ns = pose.t_receive_ns;
+    rec.t_receive_ns = pose.t_receive_ns;
+    rec.t_processed_ns = now_ns();
+    for (int i = 0; i < 3; ++i) {
+        rec.position_m[i] = static_cast<float>(pose.position_m[i]);
+        rec.direction[i] = static_cast<float>(pose.direction[i]);
+    }
+    for (int i = 0; i < 4; ++i) rec.rotation_quat[i] = static_cast<float>(pose.rotation_quat[i]);
+    rec.valid = (pose.position_valid ? 1u : 0u) | (pose.direction_valid ? 2u : 0u) |
+                (pose.rotation_valid ? 4u : 0u);
+    rec.device_id = d.id;
+    head_ring_.publish(rec);
+    ++head_poses_;
+}
+
 void Daemon::register_commands() {
     control_.add_command("status", [this](const json&, const PeerCredentials&) { return status(); },
                          false, "daemon, devices, rates, drops, latency, uptime");
@@ -249,7 +276,9 @@ json Daemon::status() const {
           {"generation", gaze_ring_.generation()},
           {"head", gaze_ring_.head()},
           {"slots", config_.ring_slots},
-          {"readers_attached", readers_attached_}}},
+          {"readers_attached", readers_attached_},
+          {"head_ring", head_ring_.name()},
+          {"head_poses", head_poses_}}},
         {"processing",
          {{"landing_prediction", readers_attached_ ? "on" : "skipped: no reader attached"}}},
         {"devices", devices},
@@ -340,6 +369,7 @@ void Daemon::shutdown() {
     }
     control_.close();
     gaze_ring_.close();
+    head_ring_.close();
     tick_timer_.cancel();
     if (lock_fd_ >= 0) {
         // The lock file stays: unlinking it would let two daemons lock two different inodes.

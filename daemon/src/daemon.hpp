@@ -59,6 +59,7 @@ private:
     void open_device(Device& d);
     void on_raw(Device& d, const gaze::RawSample& raw);
     void publish(Device& d, gaze::GazeSample& s);
+    void publish_head(Device& d, const drivers::HeadPose& pose);
     void register_commands();
     void on_signal(int signo);
     void reload();
@@ -72,6 +73,8 @@ private:
     boost::asio::steady_timer tick_timer_;
     ControlServer control_;
     ring::RingWriter gaze_ring_;
+    ring::RingWriter head_ring_;  // head pose from head trackers (HID usage 0x02)
+    uint64_t head_poses_ = 0;
     std::vector<std::unique_ptr<Device>> devices_;
     std::vector<RawObserver> raw_observers_;
     std::vector<PublishedObserver> published_observers_;

@@ -101,7 +101,7 @@ typedef struct fovea_head_record {
     float position_m[3];      /* head position, metres, tracker frame */
     float direction[3];       /* unit forward direction */
     float rotation_quat[4];   /* x, y, z, w */
-    uint32_t valid;
+    uint32_t valid;           /* bits: 1 position, 2 direction, 4 rotation */
     uint32_t device_id;
     uint64_t reserved[12];
     uint64_t checksum;
