@@ -115,6 +115,13 @@ Result<void> Daemon::start() {
         auto d = std::make_unique<Device>();
         d->id = static_cast<uint32_t>(i);
         d->config = device_tables[i];
+        // The simulated tracker draws on the same screen the chain maps gaze onto.
+        if (d->config["driver"].value_or(std::string("sim")) == "sim" && !d->config.contains("display")) {
+            const auto& g = config_.display;
+            d->config.insert("display", toml::table{{"width_px", g.width_px}, {"height_px", g.height_px},
+                                                    {"width_m", g.width_m}, {"height_m", g.height_m},
+                                                    {"distance_m", g.distance_m}});
+        }
         auto drv = drivers::make_driver(d->config, d->id);
         if (!drv) return make_error("device " + std::to_string(i) + ": " + drv.error().message);
         d->driver = std::move(drv).value();
@@ -194,6 +201,21 @@ void Daemon::open_device(Device& d) {
 }
 
 void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
+    if (d.raw_samples == 0) {
+        // Serial and Gazepoint trackers only state their clock and rate in the handshake that
+        // precedes the first sample: start the chain on what the device says, not the defaults.
+        const drivers::DriverInfo now = d.driver->describe();
+        if (now.clock.counter_bits != d.info.clock.counter_bits ||
+            now.clock.tick_hz != d.info.clock.tick_hz || now.nominal_rate_hz != d.info.nominal_rate_hz) {
+            gaze::PipelineConfig pc;
+            pc.clock = now.clock;
+            pc.display = config_.display;
+            pc.nominal_rate_hz = now.nominal_rate_hz > 0 ? now.nominal_rate_hz : 1000.0;
+            pc.predict_landing = readers_attached_;
+            d.pipeline = std::make_unique<gaze::Pipeline>(pc);
+        }
+        d.info = now;
+    }
     ++d.raw_samples;
     for (auto& o : raw_observers_) o(raw);
     d.pipeline->process(raw, scratch_);
@@ -299,6 +321,7 @@ void Daemon::tick() {
     }
     static constexpr auto kTick = std::chrono::milliseconds(250);
     for (auto& d : devices_) {
+        if (d->raw_samples > 0) d->info = d->driver->describe();  // names from the handshake
         const uint64_t n = d->raw_samples;
         d->measured_rate_hz = 0.8 * d->measured_rate_hz + 0.2 * static_cast<double>(n - d->rate_mark) * 4.0;
         d->rate_mark = n;

@@ -268,4 +268,50 @@ TEST_F(DaemonTest, RecordWritesEverySampleAsCsv) {
     EXPECT_GT(rows, 500u);  // the simulated tracker runs at 1 kHz by default
 }
 
+// fovead configured for a serial tracker, fed by `fovea simulate serial` through a real pty with
+// garbage and dropped frames, and reopening the port: gaze flows, drops are counted.
+TEST_F(DaemonTest, SerialTrackerThroughAPtyPublishesGazeAndCountsDrops) {
+    const std::string link = dir + "/tty";
+    auto sim = cli({"simulate", "serial", "--link", link, "--rate", "500", "--garbage", "0.05",
+                    "--drop", "0.02", "--reopen-every", "1.5", "--unplugged-ms", "100"});
+    for (int i = 0; i < 500 && !fs::exists(link); ++i) std::this_thread::sleep_for(10ms);
+    ASSERT_TRUE(fs::exists(link)) << sim->err();
+    const std::string cfg = dir + "/serial.toml";
+    std::ofstream(cfg) << "[[device]]\ndriver = \"serial\"\nport = \"" << link << "\"\n";
+    auto d = start_daemon({"--config", cfg});
+    auto w = cli({"watch", "--count", "200"});
+    ASSERT_EQ(w->wait(20s * kSlowdown), 0) << w->err() << d->err();
+    std::this_thread::sleep_for(2500ms);  // across at least one unplug/replug
+    auto s = query("status");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    const json& dev = (*s)["devices"][0];
+    EXPECT_EQ(dev["driver"], "serial");
+    EXPECT_GT(dev["samples"].get<uint64_t>(), 500u);
+    EXPECT_GT(dev["frames_dropped"].get<uint64_t>() + dev["frames_lost"].get<uint64_t>(), 0u);
+    EXPECT_GE(dev["reconnects"].get<uint64_t>(), 1u);
+    EXPECT_TRUE(query("status").ok());  // still up
+}
+
+// The same through the Gazepoint Open Gaze API on loopback TCP.
+TEST_F(DaemonTest, GazepointTrackerOverTcpPublishesGaze) {
+    auto sim = cli({"simulate", "gazepoint", "--port", "0", "--rate", "150"});
+    std::string address;
+    for (int i = 0; i < 500 && address.empty(); ++i) {
+        std::this_thread::sleep_for(10ms);
+        const std::string out = sim->out();
+        if (out.find('\n') != std::string::npos) address = out.substr(0, out.find('\n'));
+    }
+    ASSERT_FALSE(address.empty()) << sim->err();
+    const std::string cfg = dir + "/gp.toml";
+    std::ofstream(cfg) << "[[device]]\ndriver = \"gazepoint\"\naddress = \"" << address << "\"\n";
+    auto d = start_daemon({"--config", cfg});
+    auto w = cli({"watch", "--count", "100"});
+    ASSERT_EQ(w->wait(20s * kSlowdown), 0) << w->err() << d->err();
+    EXPECT_EQ(count_lines(w->out()), 100);
+    auto s = query("status");
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ((*s)["devices"][0]["driver"], "gazepoint");
+    EXPECT_TRUE((*s)["devices"][0]["connected"].get<bool>());
+}
+
 }  // namespace
