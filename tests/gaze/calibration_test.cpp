@@ -1,10 +1,10 @@
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
+#include "fovea/gaze/calibration.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/calibration.hpp"
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 namespace fovea::gaze {
 namespace {

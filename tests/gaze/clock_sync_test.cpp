@@ -1,10 +1,10 @@
-#include <cmath>
-#include <cstdint>
-#include <random>
+#include "fovea/gaze/clock_sync.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/clock_sync.hpp"
+#include <cmath>
+#include <cstdint>
+#include <random>
 
 namespace fovea::gaze {
 namespace {
@@ -22,7 +22,7 @@ struct GeneratedClock {
 };
 
 struct RunResult {
-    double max_err_us = 0.0;      // after warm-up
+    double max_err_us = 0.0;  // after warm-up
     double max_reported_unc_us = 0.0;
     uint64_t resets = 0;
 };
@@ -62,7 +62,8 @@ RunResult run(const GeneratedClock& g, double seconds, double warmup_s, Event ev
         const int64_t receive = truth + std::llround(jitter * 1e9);
         const ClockMapping m = sync.update(ticks, receive);
         if (t >= warm_from) {
-            r.max_err_us = std::max(r.max_err_us, std::fabs(static_cast<double>(m.host_ns - truth)) / 1e3);
+            r.max_err_us =
+                std::max(r.max_err_us, std::fabs(static_cast<double>(m.host_ns - truth)) / 1e3);
             r.max_reported_unc_us = std::max(r.max_reported_unc_us, m.uncertainty_us);
             EXPECT_TRUE(m.converged) << "t=" << t;
         }
@@ -76,7 +77,7 @@ auto no_event = [](double, int64_t&, bool&) {};
 TEST(ClockSync, Within50usAfter10sWith5msJitter100ppmAndWrap32bit) {
     GeneratedClock g;
     g.bits = 32;
-    g.tick_hz = 1e9;  // wraps every 4.3 s
+    g.tick_hz = 1e9;                                          // wraps every 4.3 s
     g.counter_at_zero = (uint64_t{1} << 32) - 1'000'000'000;  // wrap 1 s in
     const RunResult r = run(g, 60.0, 10.0, no_event);
     std::printf("clock 32-bit 1 GHz, 100 ppm, U(0,5 ms): max error %.1f us\n", r.max_err_us);
@@ -134,12 +135,14 @@ TEST(ClockSync, ReconvergesAfterHostClockStep) {
 TEST(ClockSync, SingleGarbageSampleDoesNotReset) {
     ClockSync sync(DeviceClock{32, 1e6});
     int64_t host = 5'000'000'000;
-    for (int64_t i = 0; i < 5000; ++i) sync.update(static_cast<uint64_t>(i) * 1000, host + i * 1'000'000);
+    for (int64_t i = 0; i < 5000; ++i)
+        sync.update(static_cast<uint64_t>(i) * 1000, host + i * 1'000'000);
     const ClockMapping bad = sync.update(0xdeadbeef, host + int64_t{5000} * 1'000'000);
     EXPECT_FALSE(bad.converged);
     const ClockMapping good = sync.update(5001 * 1000, host + int64_t{5001} * 1'000'000);
     EXPECT_TRUE(good.converged);
-    EXPECT_NEAR(static_cast<double>(good.host_ns), static_cast<double>(host + int64_t{5001} * 1'000'000), 1e4);
+    EXPECT_NEAR(static_cast<double>(good.host_ns),
+                static_cast<double>(host + int64_t{5001} * 1'000'000), 1e4);
     EXPECT_EQ(sync.resets(), 0u);
 }
 

@@ -1,9 +1,10 @@
-#include <cmath>
-#include <map>
+#include "fovea/gaze/event_detector.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/event_detector.hpp"
+#include <cmath>
+#include <map>
+
 #include "synthetic.hpp"
 
 namespace fovea::gaze {
@@ -56,7 +57,8 @@ TEST_P(EventDetectorRates, FindsSaccadePursuitFixationAndBlink) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Rates, EventDetectorRates, ::testing::Values(250.0, 500.0, 1000.0, 2000.0));
+INSTANTIATE_TEST_SUITE_P(Rates, EventDetectorRates,
+                         ::testing::Values(250.0, 500.0, 1000.0, 2000.0));
 
 TEST(EventDetector, OnlineHoldsAtMostItsReportedLookahead) {
     const auto s = test::make_synthetic(1000.0);

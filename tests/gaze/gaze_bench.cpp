@@ -64,7 +64,8 @@ void BM_ClockSync(benchmark::State& st) {
     ClockSync c(DeviceClock{32, 1e6});
     uint64_t i = 0;
     for (auto _ : st) {
-        benchmark::DoNotOptimize(c.update(i * 1000, static_cast<int64_t>(i) * 1'000'000 + (i * 7919) % 3'000'000));
+        benchmark::DoNotOptimize(
+            c.update(i * 1000, static_cast<int64_t>(i) * 1'000'000 + (i * 7919) % 3'000'000));
         ++i;
     }
     st.SetItemsProcessed(st.iterations());
@@ -125,7 +126,9 @@ void BM_PipelineBinocular(benchmark::State& st) {
     }
     st.SetItemsProcessed(st.iterations());
 }
-BENCHMARK(BM_PipelineBinocular)->Arg(static_cast<int>(FilterKind::kOneEuro))->Arg(static_cast<int>(FilterKind::kKalman));
+BENCHMARK(BM_PipelineBinocular)
+    ->Arg(static_cast<int>(FilterKind::kOneEuro))
+    ->Arg(static_cast<int>(FilterKind::kKalman));
 
 }  // namespace
 }  // namespace fovea::gaze

@@ -1,8 +1,8 @@
-#include <cmath>
+#include "fovea/gaze/kalman.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/kalman.hpp"
+#include <cmath>
 
 namespace fovea::gaze {
 namespace {
@@ -12,7 +12,7 @@ TEST(KalmanCv, TracksConstantVelocityWithVariableDt) {
     double t = 0.0, last = 0.0;
     for (int i = 0; i < 2000; ++i) {
         t += (i % 3 == 0) ? 0.0005 : 0.0015;
-        const double noise = 0.05 * std::sin(i * 12.9898) ;
+        const double noise = 0.05 * std::sin(i * 12.9898);
         last = k.filter(10.0 * t + noise, t);
     }
     EXPECT_NEAR(last, 10.0 * t, 0.05);

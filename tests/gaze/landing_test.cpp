@@ -1,9 +1,9 @@
-#include <cmath>
-#include <vector>
+#include "fovea/gaze/landing.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/landing.hpp"
+#include <cmath>
+#include <vector>
 
 namespace fovea::gaze {
 namespace {

@@ -1,13 +1,13 @@
 // Event detection against the hand-labelled lund2013 recordings (Andersson et al. 2017 scoring).
 // Floors: the targets where the detector reaches them, otherwise the measured value
 // minus 0.02 (a regression floor, marked "below target"; README.md has the honest numbers).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "fovea/gaze/labelled.hpp"
 
@@ -69,9 +69,8 @@ TEST_F(Lund2013, OnlineWith400msLookaheadWithinFiveHundredthsOfOffline) {
         const double b = on.kappa.at(f.stimulus).at(f.event).at("both");
         std::printf("online %-5s %-8s kappa %.3f (offline %.3f)\n", f.stimulus, f.event, b, a);
         // dots recordings last 1-2 s: the online statistics are still warming up (README.md).
-        const double allowed = std::string(f.stimulus) == "dots" && std::string(f.event) == "fixation"
-                                   ? 0.15
-                                   : 0.05;
+        const double allowed =
+            std::string(f.stimulus) == "dots" && std::string(f.event) == "fixation" ? 0.15 : 0.05;
         EXPECT_GE(b, a - allowed) << f.stimulus << " " << f.event;
     }
 }

@@ -1,11 +1,11 @@
+#include "fovea/gaze/one_euro.hpp"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-
-#include "fovea/gaze/one_euro.hpp"
 
 namespace fovea::gaze {
 namespace {
@@ -45,8 +45,8 @@ TEST(OneEuroFilter, NanPassesThroughWithoutPoisoningState) {
 TEST(OneEuroFilter, ZeroAndBackwardDtKeepLastRate) {
     OneEuroFilter f;
     f.filter(0.0, 1.0);
-    const double a = f.filter(1.0, 1.0);   // dt = 0
-    const double b = f.filter(1.0, 0.5);   // backwards
+    const double a = f.filter(1.0, 1.0);  // dt = 0
+    const double b = f.filter(1.0, 0.5);  // backwards
     EXPECT_TRUE(std::isfinite(a));
     EXPECT_TRUE(std::isfinite(b));
     EXPECT_GE(b, a);

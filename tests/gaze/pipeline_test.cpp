@@ -1,8 +1,9 @@
-#include <cmath>
+#include "fovea/gaze/pipeline.hpp"
 
 #include <gtest/gtest.h>
 
-#include "fovea/gaze/pipeline.hpp"
+#include <cmath>
+
 #include "synthetic.hpp"
 
 namespace fovea::gaze {

@@ -1,11 +1,11 @@
 // Ground truth from the simulated tracker (drivers/sim): event kappa, landing error, and the
 // filters' lag against their residual jitter.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "fovea/gaze/labelled.hpp"
 #include "fovea/gaze/pipeline.hpp"
@@ -77,7 +77,8 @@ TEST(SimGroundTruth, EventKappaOnlineAndOffline) {
             for (Event e : kScoredEvents) a[e].add(ev[i] == e, frames[i].truth.event == e);
         }
         const char* m = mode == DetectorMode::kOnline ? "online" : "offline";
-        for (Event e : kScoredEvents) std::printf("sim %s %-8s kappa %.3f\n", m, event_name(e), a[e].kappa());
+        for (Event e : kScoredEvents)
+            std::printf("sim %s %-8s kappa %.3f\n", m, event_name(e), a[e].kappa());
         EXPECT_GT(a[Event::kSaccade].kappa(), 0.8) << m;
         EXPECT_GT(a[Event::kFixation].kappa(), 0.6) << m;
         // Online (100 ms look-ahead) sees less of the pursuit window (README.md).
@@ -123,8 +124,10 @@ TEST(SimGroundTruth, LandingErrorAtHalfDurationBeatsCurrentPosition) {
             done[k] = true;
             const LandingEstimate e = pred.predict(t, x, y);
             if (!e.valid) continue;
-            err_pred[k].push_back(std::hypot(e.x_deg - tr.landing_x_deg, e.y_deg - tr.landing_y_deg));
-            err_naive[k].push_back(std::hypot(x.back() - tr.landing_x_deg, y.back() - tr.landing_y_deg));
+            err_pred[k].push_back(
+                std::hypot(e.x_deg - tr.landing_x_deg, e.y_deg - tr.landing_y_deg));
+            err_naive[k].push_back(
+                std::hypot(x.back() - tr.landing_x_deg, y.back() - tr.landing_y_deg));
         }
     }
     auto median = [](std::vector<double> v) {
@@ -132,9 +135,10 @@ TEST(SimGroundTruth, LandingErrorAtHalfDurationBeatsCurrentPosition) {
         return v.empty() ? NAN : v[v.size() / 2];
     };
     for (int k = 0; k < 3; ++k) {
-        std::printf("sim landing >5deg at %2.0f%%: n=%zu median error predictor %.2f deg, "
-                    "current position %.2f deg\n",
-                    100 * fracs[k], err_pred[k].size(), median(err_pred[k]), median(err_naive[k]));
+        std::printf(
+            "sim landing >5deg at %2.0f%%: n=%zu median error predictor %.2f deg, "
+            "current position %.2f deg\n",
+            100 * fracs[k], err_pred[k].size(), median(err_pred[k]), median(err_naive[k]));
     }
     ASSERT_GT(err_pred[1].size(), 20u);
     EXPECT_LT(median(err_pred[1]), median(err_naive[1]));
@@ -203,8 +207,9 @@ TEST(SimGroundTruth, FilterLagAgainstJitter) {
             raw_jitter = jit;
             raw_lag = lag;  // the estimator's own offset (bias along pursuit), subtracted below
         }
-        std::printf("sim filter %-18s jitter (sample-to-sample RMS) %.4f deg, pursuit lag %.1f ms\n",
-                    v.name, jit, lag - raw_lag);
+        std::printf(
+            "sim filter %-18s jitter (sample-to-sample RMS) %.4f deg, pursuit lag %.1f ms\n",
+            v.name, jit, lag - raw_lag);
         if (v.kind != FilterKind::kNone) {
             EXPECT_LT(jit, raw_jitter);
             EXPECT_LT(lag - raw_lag, 60.0);

@@ -3,9 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "command.hpp"
 #include "fovea/gaze/labelled.hpp"
@@ -39,7 +38,9 @@ const std::map<std::string, Published>& published() {
     return p;
 }
 
-int stimulus_index(const std::string& s) { return s == "img" ? 0 : s == "dots" ? 1 : s == "video" ? 2 : -1; }
+int stimulus_index(const std::string& s) {
+    return s == "img" ? 0 : s == "dots" ? 1 : s == "video" ? 2 : -1;
+}
 
 nlohmann::json number(double v) {
     return std::isfinite(v) ? nlohmann::json(std::round(v * 1e4) / 1e4) : nlohmann::json(nullptr);
@@ -77,7 +78,8 @@ int run(const Options& o) {
         j["kappa"] = nlohmann::json::object();
         for (const auto& [stimulus, events] : result.kappa) {
             for (const auto& [event, coders] : events) {
-                for (const auto& [coder, k] : coders) j["kappa"][stimulus][event][coder] = number(k);
+                for (const auto& [coder, k] : coders)
+                    j["kappa"][stimulus][event][coder] = number(k);
             }
         }
         j["samples"] = result.samples;
@@ -85,9 +87,12 @@ int run(const Options& o) {
         return 0;
     }
     for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
-    std::printf("eval-events: %zu recordings, %zu samples scored, mode %s%s\n",
-                set->recordings.size(), result.samples, o.mode.c_str(),
-                o.mode == "online" ? (", look-ahead " + std::to_string(static_cast<int>(o.lookahead_ms)) + " ms").c_str() : "");
+    std::printf(
+        "eval-events: %zu recordings, %zu samples scored, mode %s%s\n", set->recordings.size(),
+        result.samples, o.mode.c_str(),
+        o.mode == "online"
+            ? (", look-ahead " + std::to_string(static_cast<int>(o.lookahead_ms)) + " ms").c_str()
+            : "");
     std::printf("%-6s %-9s %7s %7s %7s | %7s %7s %-9s %7s\n", "stim", "event", "MN", "RA", "both",
                 "humans", "best", "(algo)", "target");
     auto cell = [](double v) {

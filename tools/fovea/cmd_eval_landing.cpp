@@ -4,10 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "fovea/gaze/labelled.hpp"
@@ -73,7 +72,8 @@ int run(const Options& o) {
                 t.clear();
                 x.clear();
                 y.clear();
-                for (size_t k = a; k <= b && in[k].t_s - in[a].t_s <= kFractions[q] * dur + 1e-9; ++k) {
+                for (size_t k = a; k <= b && in[k].t_s - in[a].t_s <= kFractions[q] * dur + 1e-9;
+                     ++k) {
                     t.push_back(in[k].t_s - in[a].t_s);
                     x.push_back(in[k].x_deg);
                     y.push_back(in[k].y_deg);
@@ -110,9 +110,10 @@ int run(const Options& o) {
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("eval-landing: %zu labelled saccades > %.0f deg (all coder files), %zu skipped "
-                "(lost samples)\n",
-                saccades, kMinAmplitude, skipped_invalid);
+    std::printf(
+        "eval-landing: %zu labelled saccades > %.0f deg (all coder files), %zu skipped "
+        "(lost samples)\n",
+        saccades, kMinAmplitude, skipped_invalid);
     std::printf("median landing error, deg      %8s %8s %8s\n", "25%", "50%", "75%");
     auto row = [](const char* name, const std::vector<double>* v) {
         std::printf("%-30s %8.2f %8.2f %8.2f\n", name, median(v[0]), median(v[1]), median(v[2]));
@@ -135,9 +136,8 @@ void setup(CLI::App& app) {
     });
 }
 
-const Command kEvalLanding{"eval-landing",
-                           "Landing-prediction error on labelled saccades vs current position",
-                           &setup};
+const Command kEvalLanding{
+    "eval-landing", "Landing-prediction error on labelled saccades vs current position", &setup};
 
 }  // namespace
 }  // namespace fovea::cli

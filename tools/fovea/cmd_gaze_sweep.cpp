@@ -1,7 +1,8 @@
 // `fovea gaze-sweep LUND_DIR [--out PREFIX] [--seconds S]`: run time and lag against error for
 // the gaze chain's knobs, written as PREFIX.csv and PREFIX.png.
 //   filter rows: 1€ (mincutoff, beta) and Kalman (acceleration noise) on the simulated tracker:
-//                residual jitter (deg RMS sample-to-sample in fixation) vs pursuit lag (ms), ns/sample;
+//                residual jitter (deg RMS sample-to-sample in fixation) vs pursuit lag (ms),
+//                ns/sample;
 //   detector rows: online look-ahead (ms) vs mean kappa (fixation, saccade, PSO; both coders) on
 //                LUND_DIR, ns/sample.
 // The PNG has two panels: left jitter (y) vs lag (x), 1€ blue / Kalman red; right mean kappa (y)
@@ -79,7 +80,9 @@ Row filter_row(const std::vector<drivers::sim::SimTracker::Frame>& frames, doubl
     const double ns =
         std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / frames.size();
     Row r;
-    r.kind = kind == gaze::FilterKind::kOneEuro ? "oneeuro" : kind == gaze::FilterKind::kKalman ? "kalman" : "raw";
+    r.kind = kind == gaze::FilterKind::kOneEuro  ? "oneeuro"
+             : kind == gaze::FilterKind::kKalman ? "kalman"
+                                                 : "raw";
     r.params = params;
     r.x = 1e3 * lag / std::max<size_t>(1, nl) - raw_lag;
     r.y = std::sqrt(jit / std::max<size_t>(1, nj));
@@ -141,7 +144,8 @@ int run(const Options& o) {
     drivers::sim::SimConfig sc;
     sc.seed = 21;
     drivers::sim::SimTracker sim(sc);
-    std::vector<drivers::sim::SimTracker::Frame> frames(static_cast<size_t>(o.seconds * sc.rate_hz));
+    std::vector<drivers::sim::SimTracker::Frame> frames(
+        static_cast<size_t>(o.seconds * sc.rate_hz));
     for (auto& f : frames) f = sim.next();
     const Row raw = filter_row(frames, sc.rate_hz, gaze::FilterKind::kNone, {}, {}, "-", 0.0);
     rows.push_back(raw);

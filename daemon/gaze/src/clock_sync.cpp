@@ -158,7 +158,8 @@ void ClockSync::fit() {
         // still carries some latency, the lowest one the least.
         double lowest = 0.0;
         for (size_t i = 0; i < n; ++i) {
-            if (use[i]) lowest = std::min(lowest, bins_[i].offset_s - (om + b * (bins_[i].dev_s - tm)));
+            if (use[i])
+                lowest = std::min(lowest, bins_[i].offset_s - (om + b * (bins_[i].dev_s - tm)));
         }
         a_ = om + lowest;
         skew_ = b;

@@ -485,8 +485,7 @@ VelocityThresholds nh_iterate(const std::vector<double>& v, const DetectorParams
     }
     VelocityThresholds t;
     t.peak_dps = std::max(params.min_peak_dps, peak);
-    t.onset_dps =
-        std::max(params.min_onset_dps, std::min(t.peak_dps, mean + params.onset_sd * sd));
+    t.onset_dps = std::max(params.min_onset_dps, std::min(t.peak_dps, mean + params.onset_sd * sd));
     return t;
 }
 

@@ -29,12 +29,18 @@ double header_value(const std::string& header, const std::string& key, int index
 
 const char* event_name(Event e) {
     switch (e) {
-        case Event::kFixation: return "fixation";
-        case Event::kSaccade: return "saccade";
-        case Event::kPso: return "pso";
-        case Event::kPursuit: return "pursuit";
-        case Event::kBlink: return "blink";
-        default: return "undefined";
+        case Event::kFixation:
+            return "fixation";
+        case Event::kSaccade:
+            return "saccade";
+        case Event::kPso:
+            return "pso";
+        case Event::kPursuit:
+            return "pursuit";
+        case Event::kBlink:
+            return "blink";
+        default:
+            return "undefined";
     }
 }
 
@@ -115,8 +121,8 @@ Result<LabelledFile> load_labelled_csv(const std::string& path) {
     f.t_s.resize(stamps.size());
     double t0 = kNaN;
     for (size_t i = 0; i < stamps.size(); ++i) {
-        const bool good = std::isfinite(stamps[i]) && (i == 0 || !std::isfinite(stamps[i - 1]) ||
-                                                      stamps[i] > stamps[i - 1]);
+        const bool good = std::isfinite(stamps[i]) &&
+                          (i == 0 || !std::isfinite(stamps[i - 1]) || stamps[i] > stamps[i - 1]);
         if (std::isfinite(stamps[i]) && !std::isfinite(t0)) t0 = stamps[i];
         if (good && std::isfinite(t0)) {
             f.t_s[i] = (stamps[i] - t0) * 1e-6;
@@ -151,8 +157,9 @@ Result<LabelledSet> load_labelled_dir(const std::string& dir) {
     for (const auto& p : paths) {
         const std::string name = std::filesystem::path(p).filename().string();
         if (name.rfind("fix_by_", 0) == 0) {
-            set.notes.push_back(name + ": skipped (a later correction; the paper scored the "
-                                       "original labels)");
+            set.notes.push_back(name +
+                                ": skipped (a later correction; the paper scored the "
+                                "original labels)");
             continue;
         }
         auto f = load_labelled_csv(p);

@@ -33,21 +33,22 @@ struct DetectorParams {
     double onset_sd = 3.0;
     double min_peak_dps = 30.0;  // floors for very quiet trackers
     double min_onset_dps = 15.0;
-    int onset_extra_samples = 0;            // walk back past the threshold to the minimum
-    double offset_peak_fraction = 0.2;      // offset: local minimum below this x peak
+    int onset_extra_samples = 0;        // walk back past the threshold to the minimum
+    double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
     double pso_onset_factor = 1.3;
-    double pso_peak_fraction = 1.0;  // ... or above this x the saccade's peak, if lower  // PSO: velocity above this x onset threshold
+    double pso_peak_fraction = 1.0;  // ... or above this x the saccade's peak, if lower  // PSO:
+                                     // velocity above this x onset threshold
     double smooth_half_window_s = 0.400;  // pursuit speed window, +-400 ms within a segment
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
-    double pursuit_noise_gain = 85.0;     // threshold floor per degree of position noise
-    double min_pursuit_window_s = 0.03;   // shorter windows keep the previous decision
-    double pursuit_hysteresis = 0.5;      // leave pursuit below this x threshold
-    double min_blink_s = 0.016;           // shorter tracking losses are dropouts, not blinks
-    double blink_pre_s = 0.030;           // lid artefacts before / after the lost samples
+    double pursuit_noise_gain = 85.0;    // threshold floor per degree of position noise
+    double min_pursuit_window_s = 0.03;  // shorter windows keep the previous decision
+    double pursuit_hysteresis = 0.5;     // leave pursuit below this x threshold
+    double min_blink_s = 0.016;          // shorter tracking losses are dropouts, not blinks
+    double blink_pre_s = 0.030;          // lid artefacts before / after the lost samples
     double blink_post_s = 0.060;
     double lookahead_s = 0.100;         // online: bounded delay before a sample is final
     double threshold_horizon_s = 30.0;  // online: memory of the threshold statistics
@@ -117,7 +118,7 @@ private:
         bool valid = false;  // measured (not a held dropout value)
         bool lost = false;   // part of a loss long enough to be a blink
         Label label = Label::kPending;
-        int64_t sacc = -1;  // saccade record id
+        int64_t sacc = -1;            // saccade record id
         std::array<double, 6> cum{};  // running sums t, x, y, tt, tx, ty since the anchor
     };
     struct Record {
@@ -167,7 +168,7 @@ private:
     static constexpr int64_t kBlock = 1 << 14;
     double anchor_t_ = 0.0, anchor_x_ = 0.0, anchor_y_ = 0.0;
     std::array<double, 6> run_{};
-    int64_t seg_start_ = 0;    // first sample of the intersaccadic segment at stage 3
+    int64_t seg_start_ = 0;     // first sample of the intersaccadic segment at stage 3
     int64_t verified_to_ = -1;  // samples (s3, verified_to_] are known intersaccadic
 
     double last_valid_x_ = kNaN, last_valid_y_ = kNaN;

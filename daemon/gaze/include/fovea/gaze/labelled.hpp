@@ -21,7 +21,7 @@ struct LabelledFile {
     std::string stimulus;   // img / dots / video from the name, else "all"
     std::string coder;      // MN / RA / ... from the name's last _X suffix
     double header_rate_hz = 0.0;
-    double rate_hz = 0.0;   // from timestamps where present (some headers are wrong)
+    double rate_hz = 0.0;  // from timestamps where present (some headers are wrong)
     DisplayGeometry display;
     std::vector<double> t_s;  // NaN stamps replaced by the nominal period
     std::vector<double> x_px, y_px;
@@ -33,7 +33,7 @@ struct LabelledFile {
 
 struct LabelledRecording {
     std::string name, stimulus;
-    const LabelledFile* data = nullptr;                // the samples (first coder's file)
+    const LabelledFile* data = nullptr;                 // the samples (first coder's file)
     std::map<std::string, const LabelledFile*> coders;  // labels per coder
     size_t length = 0;  // samples scored: aligned from the start, shortest file
 };
