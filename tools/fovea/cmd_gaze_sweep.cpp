@@ -6,7 +6,8 @@
 //   detector rows: online look-ahead (ms) vs mean kappa (fixation, saccade, PSO; both coders) on
 //                LUND_DIR, ns/sample.
 // The PNG has two panels: left jitter (y) vs lag (x), 1€ blue / Kalman red; right mean kappa (y)
-// vs look-ahead (x). Axes start at 0; the CSV holds the numbers.
+// vs look-ahead (x). Axes start at 0 (kappa axis: at the lowest value - 0.02); the CSV holds
+// the numbers.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -101,12 +102,14 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
         p[2] = b;
     };
     auto panel = [&](int ox, bool filters) {
-        double xmax = 1e-9, ymax = 1e-9;
+        double xmax = 1e-9, ymax = 1e-9, ymin = filters ? 0.0 : 1e9;
         for (const auto& r : rows) {
             if ((r.kind == "detector") == filters) continue;
             xmax = std::max(xmax, r.x);
             ymax = std::max(ymax, r.y);
+            if (!filters) ymin = std::min(ymin, r.y - 0.02);
         }
+        if (ymax <= ymin) ymax = ymin + 1e-3;
         const int x0 = ox + kPad, y0 = kH - kPad, w = kPanel - 2 * kPad, h = kH - 2 * kPad;
         for (int i = 0; i <= w; ++i) px(x0 + i, y0, 0, 0, 0);
         for (int i = 0; i <= h; ++i) px(x0, y0 - i, 0, 0, 0);
@@ -119,7 +122,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
         for (const auto& r : rows) {
             if ((r.kind == "detector") == filters) continue;
             const int cx = x0 + static_cast<int>(std::max(0.0, r.x) / xmax * w);
-            const int cy = y0 - static_cast<int>(r.y / ymax * h);
+            const int cy = y0 - static_cast<int>((r.y - ymin) / (ymax - ymin) * h);
             const bool blue = r.kind == "oneeuro" || r.kind == "detector";
             for (int dy = -3; dy <= 3; ++dy) {
                 for (int dx = -3; dx <= 3; ++dx) {
