@@ -73,7 +73,11 @@ float adaptive_motion_gain(float v_deg_s) {
 }
 
 float adaptive_luminance(vec3 c) { return dot(vec3(0.299, 0.587, 0.114), c); }  // Eq. 9
-float adaptive_tonemap(float l, float e) { float x = max(l * e, 0.0); return x / (1.0 + x); }
+// Reinhard; finite for any input (inf -> 1, NaN -> 0).
+float adaptive_tonemap(float l, float e) {
+    float x = clamp(l * e, 0.0, 1e30);
+    return isnan(x) ? 0.0 : x / (1.0 + x);
+}
 
 // Eq. 11.
 float adaptive_brightness_scale(float l) {

@@ -38,8 +38,8 @@ void main() {
         }
         barrier();
     }
-    if (i == 0u && ad.has_history != 0 && s_w[0] > 0.0) {
-        float l = s_sum[0] / s_w[0];
+    float l = s_sum[0] / max(s_w[0], 1e-20);
+    if (i == 0u && ad.has_history != 0 && s_w[0] > 0.0 && !isnan(l) && !isinf(l)) {
         ex.l_avg = l;
         ex.exposure = clamp(e + ad.adapt_rate * (ad.auto_exposure - l), 1e-3, 1e3);
     }

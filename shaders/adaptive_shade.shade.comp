@@ -20,5 +20,8 @@ void main() {
     ivec2 p = ivec2(int(packed & 0xffffu), int(packed >> 16u));
     FoveaGSample g = fovea_load_gsample(p);
     vec3 c = fovea_shade(g, fovea_make_footprint(vec2(p) + 0.5, 1.0, g.distance, 0.0));
+    // One NaN or inf (above the half-float range) would spread over a whole pull-push block
+    // (0 · inf = NaN in the fill): keep samples finite.
+    c = min(mix(c, vec3(0.0), isnan(c)), vec3(65504.0));
     imageStore(level0, p, vec4(c, 1.0));
 }

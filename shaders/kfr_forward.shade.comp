@@ -27,5 +27,9 @@ void main() {
     FoveaGSample g = fovea_load_gsample(px);
     float s_t = clamp(log2(fp) * 0.5, 0.0, 1.0);
     FoveaFootprint f = fovea_make_footprint(vec2(px) + 0.5, fp, g.distance, s_t);
-    imageStore(lp_out, t, vec4(fovea_shade(g, f), 1.0));
+    vec3 c = fovea_shade(g, f);
+    // Keep samples finite: the bilinear taps and the blur mix neighbours with zero weights, and
+    // 0 · inf is NaN.
+    c = min(mix(c, vec3(0.0), isnan(c)), vec3(65504.0));
+    imageStore(lp_out, t, vec4(c, 1.0));
 }

@@ -47,6 +47,8 @@ void main() {
         vec2 centre = sp.origin + (vec2(t) + 0.5 + sp.jitter) * sp.s;
         float s_t = clamp(log2(sp.s) * 0.5, 0.0, 1.0);
         vec3 c = fovea_shade(g, fovea_make_footprint(centre, sp.s, g.distance, s_t));
+        // Keep samples finite: upsampling and history blends mix with zero weights (0 · inf).
+        c = min(mix(c, vec3(0.0), isnan(c)), vec3(65504.0));
         imageStore(l_color, t, vec4(c, 1.0));
     }
 }

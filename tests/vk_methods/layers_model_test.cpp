@@ -138,6 +138,19 @@ TEST(GuenterLayers, Figure13FoveatedCostGrowsRoughlyLinearlyUpTo90Degrees) {
     EXPECT_GT((full90 * full90) / (full30 * full30), 3.0 * w90 / w30);
 }
 
+TEST(GuenterLayers, MinimumInnerRadiusKeepsAFullRateFoveaAtAPrice) {
+    const LayerDisplay d;
+    LayerOptions o;
+    o.slope = kSlopeB;
+    const LayerPlan free_plan = *optimise_layers(d, o);
+    o.min_inner_deg = 5.0 / 0.6;  // full weight (inside the 40 % blend) out to 5 degrees
+    const LayerPlan fovea_plan = *optimise_layers(d, o);
+    EXPECT_LT(free_plan.layers[0].radius_deg, o.min_inner_deg);
+    EXPECT_GE(fovea_plan.layers[0].radius_deg, o.min_inner_deg);
+    EXPECT_GT(fovea_plan.work, free_plan.work);
+    EXPECT_LT(fovea_plan.shaded_fraction(), 0.5);  // still far below full rate
+}
+
 TEST(GuenterLayers, RejectsBadInput) {
     LayerDisplay d;
     LayerOptions o;

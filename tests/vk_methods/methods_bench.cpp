@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
         {"full", "full", {}},
         {"layers", "layers", {}},
         {"layers-half", "layers", {"layers.half_rate=1"}},
+        {"layers-fovea5", "layers", {"layers.fovea_deg=5"}},
         {"kfr-1.6", "kfr", {"kfr.sigma=1.6"}},
         {"kfr-1.8", "kfr", {"kfr.sigma=1.8"}},
         {"kfr-1.8-literal", "kfr", {"kfr.sigma=1.8", "kfr.literal=1"}},

@@ -6,7 +6,8 @@
 // history, and composites all layers bilinearly with smoothstep circle masks.
 // Options: layers.count (3), layers.slope (acuity.mar_slope), layers.omega0 (acuity.mar_omega0),
 // layers.half_rate (0: every layer every frame; 1: outer layers on alternate frames,
-// staggered), layers.alpha (0.5: weight of the current frame in the outer layers' blend).
+// staggered), layers.alpha (0.5: weight of the current frame in the outer layers' blend),
+// layers.fovea_deg (0: pure §4.3 radii; > 0: the inner layer keeps full weight out to it).
 // The inner layer uses the frame's own jitter and no history, so the fovea is the full-rate
 // image (s = 1, same samples).
 #include <algorithm>
@@ -92,6 +93,11 @@ public:
         o.slope = ctx.option_number("layers.slope", ctx.config.acuity.mar_slope);
         o.omega0_deg = ctx.option_number("layers.omega0", ctx.config.acuity.mar_omega0);
         half_rate_ = ctx.option_number("layers.half_rate", 0.0) != 0.0;
+        // The smoothstep blend starts at 60 % of the inner radius: a full-rate fovea of
+        // `fovea_deg` needs e_1 >= fovea_deg / 0.6.
+        const double fovea_deg = ctx.option_number("layers.fovea_deg", 0.0);
+        if (!(fovea_deg >= 0.0)) return make_error("layers.fovea_deg must be >= 0");
+        o.min_inner_deg = fovea_deg / 0.6;
         o.half_rate_outer = half_rate_;
         alpha_ = float(ctx.option_number("layers.alpha", 0.5));
         if (!(alpha_ > 0.0f && alpha_ <= 1.0f)) return make_error("layers.alpha must be in (0, 1]");

@@ -121,6 +121,7 @@ Result<LayerPlan> optimise_layers(const LayerDisplay& d, const LayerOptions& o) 
         !(d.aspect > 0.0) || d.aspect > 1.0)
         return make_error("display needs positive size, distance, resolution and aspect <= 1");
     if (o.steps < o.layer_count) return make_error("too few discretisation steps");
+    if (!(o.min_inner_deg >= 0.0)) return make_error("min_inner_deg must be >= 0");
 
     Search search{d, o, sharpness_deg(d), display_radius_deg(d), {}, {}, {}};
     for (int i = 1; i < o.steps; ++i) search.grid.push_back(search.e_star * i / o.steps);
@@ -139,7 +140,11 @@ Result<LayerPlan> optimise_layers(const LayerDisplay& d, const LayerOptions& o) 
         search.recurse(1, from, sampling_after(e1, o, search.omega_star),
                        weight_of(0, o) * d1 * d1);
     } else {
-        search.recurse(0, 0, 1.0, 0.0);
+        // A lower bound on e_1 starts the first radius further out on the same grid.
+        const auto from = static_cast<std::size_t>(
+            std::lower_bound(search.grid.begin(), search.grid.end(), o.min_inner_deg) -
+            search.grid.begin());
+        search.recurse(0, from, 1.0, 0.0);
     }
     if (search.best.empty()) return make_error("no admissible layer radii on this grid");
     return evaluate_layers(d, o, search.best);

@@ -33,6 +33,7 @@ struct LayerOptions {
     int steps = 240;                    // discretisation of (0, e*) for the brute-force search
     bool half_rate_outer = false;       // w_1 = 1, w_i = 1/2 for i > 1 (staggered updates)
     std::optional<double> fixed_s2;     // the "n = 3*" variant of Fig. 12: s_2 forced (e.g. 2)
+    double min_inner_deg = 0.0;         // e_1 >= this (keep a full-rate fovea; 0 = pure §4.3)
 };
 
 struct Layer {
