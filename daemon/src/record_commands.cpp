@@ -4,6 +4,7 @@
 
 #include <cerrno>
 
+#include <deque>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -21,6 +22,9 @@ namespace {
 using nlohmann::json;
 
 constexpr std::size_t kMaxClients = 64;
+// Raw samples kept for a recording's pre-roll: 64 s at 1 kHz, ~6 MB. While the daemon has
+// seen fewer, the pre-roll is the chain's whole history and replay is exact by construction.
+constexpr std::size_t kPrerollSamples = 65536;
 
 std::shared_ptr<spdlog::logger> log() {
     auto l = spdlog::get("daemon");
@@ -70,6 +74,16 @@ struct RecordingService {
     std::map<int, record::LatencyStats> clients;  // by peer pid
     std::unique_ptr<record::Recorder> recorder;
     json last;  // counters of the last finished recording
+    std::deque<std::pair<gaze::RawSample, bool>> preroll;  // (raw, predict_landing)
+    uint64_t raw_seen = 0;
+
+    void on_raw(const gaze::RawSample& raw) {
+        const bool predict = daemon.landing_prediction();
+        ++raw_seen;
+        if (preroll.size() == kPrerollSamples) preroll.pop_front();
+        preroll.emplace_back(raw, predict);
+        if (recorder) recorder->push_raw(raw, predict);
+    }
 
     explicit RecordingService(Daemon& d) : daemon(d) {}
 
@@ -83,6 +97,7 @@ struct RecordingService {
         record::RecorderOptions o;
         o.path = path;
         o.info = recording_info(daemon);
+        o.info.preroll_from_start = raw_seen <= kPrerollSamples;
         if (req.contains("flush_ms")) {
             o.flush_interval_ns = static_cast<int64_t>(req["flush_ms"].get<double>() * 1e6);
         }
@@ -90,8 +105,11 @@ struct RecordingService {
         auto r = record::Recorder::start(std::move(o));
         if (!r) throw std::runtime_error(r.error().message);
         recorder = std::move(r).value();
+        // samples the chain has already processed: replay needs them to rebuild its state
+        for (const auto& [raw, predict] : preroll) recorder->push_raw(raw, predict, true);
         log()->info("recording to {}", path);
-        return {{"recording", true}, {"path", path}};
+        return {{"recording", true}, {"path", path}, {"preroll_samples", preroll.size()},
+                {"preroll_from_start", raw_seen <= kPrerollSamples}};
     }
 
     json stop() {
@@ -140,9 +158,7 @@ struct RecordingService {
 
 void attach_recording(Daemon& daemon) {
     auto svc = std::make_shared<RecordingService>(daemon);
-    daemon.add_raw_observer([svc](const gaze::RawSample& raw) {
-        if (svc->recorder) svc->recorder->push_raw(raw, svc->daemon.landing_prediction());
-    });
+    daemon.add_raw_observer([svc](const gaze::RawSample& raw) { svc->on_raw(raw); });
     daemon.add_published_observer([svc](const gaze::GazeSample& s, const fovea_gaze_record& r) {
         svc->device_hops.record_published(s, r.t_publish_ns);
         if (svc->recorder) svc->recorder->push_gaze(s, r.t_publish_ns, r.index);

@@ -1,6 +1,9 @@
 // Recording and latency statistics inside fovead (issue 9), attached to the daemon through its
 // extension points (observers, control commands, status sections):
-//   record.start {"path": "/abs/file.xdf"}  (admin)  start an XDF recording (raw, gaze, latency)
+//   record.start {"path": "/abs/file.xdf"}  (admin)  start an XDF recording (raw, gaze, latency);
+//                                                     the raw stream begins with a pre-roll of
+//                                                     up to 65536 earlier raw samples (flagged)
+//                                                     so `fovea replay` can rebuild the chain state
 //   record.stop                              (admin)  stop it; replies with the counters
 //   latency.report {"hops": {...}}                    an SDK client's render-side histograms
 //                                                     (LatencyStats JSON with buckets), kept per

@@ -28,7 +28,10 @@ struct LiveRun {
 
 // What fovead does per sample, with the simulated tracker: process, publish, record. Landing
 // prediction is toggled mid-run as the daemon does when readers come and go.
-LiveRun record_sim(const std::string& path, double seconds, uint64_t seed) {
+// With warmup_s > 0 the chain runs that long before the recording starts, as in a daemon that
+// was up before record.start; `preroll` then hands that history to the recorder.
+LiveRun record_sim(const std::string& path, double seconds, uint64_t seed, double warmup_s = 0,
+                   bool preroll = true) {
     fovea::drivers::sim::SimConfig sc;
     sc.seed = seed;
     sc.start_ns = 5'000'000'000'000;
@@ -42,12 +45,23 @@ LiveRun record_sim(const std::string& path, double seconds, uint64_t seed) {
     o.info.clock.tick_hz = sc.tick_hz;
     o.info.display = sc.display;
     o.flush_interval_ns = 50'000'000;
-    auto rec = Recorder::start(o);
-    EXPECT_TRUE(rec.ok());
     gaze::Pipeline pipeline(pipeline_config(o.info));
     LiveRun live{path, {}, {}};
     std::vector<gaze::GazeSample> out;
     bool predict = true;
+    std::vector<std::pair<gaze::RawSample, bool>> history;
+    for (int i = 0; i < static_cast<int>(warmup_s * sc.rate_hz); ++i) {
+        auto f = tracker.next();
+        f.raw.t_receive_ns = f.t_true_ns + 1'800'000 + (i * 104729) % 400'000;
+        pipeline.process(f.raw, out);  // published before the recording: not compared
+        history.emplace_back(f.raw, predict);
+    }
+    o.info.preroll_from_start = preroll;
+    auto rec = Recorder::start(o);
+    EXPECT_TRUE(rec.ok());
+    if (preroll) {
+        for (const auto& [raw, p] : history) (*rec)->push_raw(raw, p, true);
+    }
     const int n = static_cast<int>(seconds * sc.rate_hz);
     uint64_t index = 0;
     for (int i = 0; i < n; ++i) {
@@ -106,6 +120,32 @@ TEST(Replay, SimRecordingReplaysBitIdenticallyThroughThePipeline) {
     uint64_t saccades = 0;
     for (const auto& g : rec->gaze) saccades += g.event == gaze::Event::kSaccade;
     EXPECT_GT(saccades, 100u);  // the comparison covered real events
+}
+
+TEST(Replay, PrerollRebuildsTheChainStateOfARecordingStartedLate) {
+    const auto dir = test::scratch_dir("preroll");
+    const auto live = record_sim((dir / "late.xdf").string(), 3.0, 21, 4.0, true);
+    auto f = xdf::read_file(live.path);
+    ASSERT_TRUE(f.ok());
+    auto rec = decode_recording(*f);
+    ASSERT_TRUE(rec.ok());
+    EXPECT_TRUE(rec->info.preroll_from_start);
+    EXPECT_EQ(std::count(rec->raw_preroll.begin(), rec->raw_preroll.end(), true), 4000);
+    const auto res = replay(*rec);
+    EXPECT_EQ(res.compared, live.published.size());
+    EXPECT_EQ(res.mismatches, 0u) << "first at " << res.first_mismatch << ": " << res.first_mismatch_field;
+}
+
+TEST(Replay, WithoutPrerollALateRecordingIsReportedAsDifferent) {
+    // the chain's state (clock mapping, filters, adaptive thresholds) depends on its history
+    const auto dir = test::scratch_dir("nopreroll");
+    const auto live = record_sim((dir / "late.xdf").string(), 3.0, 21, 4.0, false);
+    auto f = xdf::read_file(live.path);
+    ASSERT_TRUE(f.ok());
+    auto rec = decode_recording(*f);
+    ASSERT_TRUE(rec.ok());
+    EXPECT_FALSE(rec->info.preroll_from_start);
+    EXPECT_GT(replay(*rec).mismatches, 0u);
 }
 
 TEST(Replay, ATamperedRecordingIsReportedAsAMismatch) {

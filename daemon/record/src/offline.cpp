@@ -105,9 +105,10 @@ Result<Recording> decode_recording(const xdf::File& file) {
     r.info = *info;
     const int64_t o = r.info.time_origin_ns;
     for (std::size_t i = 0; i < raw->sample_count(); ++i) {
-        bool pl = true;
-        r.raw.push_back(decode_raw(&raw->values[i * static_cast<std::size_t>(raw->channel_count)], o, &pl));
+        bool pl = true, pre = false;
+        r.raw.push_back(decode_raw(&raw->values[i * static_cast<std::size_t>(raw->channel_count)], o, &pl, &pre));
         r.raw_predict_landing.push_back(pl);
+        r.raw_preroll.push_back(pre);
     }
     for (std::size_t i = 0; i < gz->sample_count(); ++i) {
         int64_t pub = 0;
@@ -178,6 +179,7 @@ ReplayResult replay(const Recording& rec) {
             predict[raw.device_id] = pl;
         }
         p->process(raw, out);
+        if (rec.raw_preroll[i]) continue;  // published before the recording started
         for (auto& s : out) {
             s.device_id = raw.device_id;  // as the daemon stamps it on publish
             per_device[raw.device_id].push_back(s);

@@ -173,7 +173,11 @@ void Plot::xspan(double a, double b, Rgb c) {
 void Plot::vline(double x, Rgb c, const std::string& label) {
     const double X = px(x);
     canvas_.line(X, top_, X, canvas_.height() - bottom_, c, 1);
-    if (!label.empty()) canvas_.text(static_cast<int>(X) + 3, top_ + 2, label, c);
+    if (label.empty()) return;
+    // stagger labels downwards; flip to the left of the line near the right edge
+    const int w = Canvas::text_width(label);
+    const int tx = X + 3 + w > canvas_.width() - right_ ? static_cast<int>(X) - 3 - w : static_cast<int>(X) + 3;
+    canvas_.text(tx, top_ + 2 + 12 * (vlines_++ % 4), label, c);
 }
 void Plot::legend(const std::string& label, Rgb c) { legend_.emplace_back(label, c); }
 

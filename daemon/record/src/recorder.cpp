@@ -103,13 +103,13 @@ void Recorder::push_row(int stream, double stamp, const double* row, int channel
     p.rows.insert(p.rows.end(), row, row + channels);
 }
 
-void Recorder::push_raw(const gaze::RawSample& raw, bool predict_landing) {
+void Recorder::push_raw(const gaze::RawSample& raw, bool predict_landing, bool preroll) {
     if (stopped_ || failed_.load(std::memory_order_relaxed)) {
         dropped_.fetch_add(1, std::memory_order_relaxed);
         return;
     }
     double row[32];
-    encode_raw(raw, predict_landing, options_.info.time_origin_ns, row);
+    encode_raw(raw, predict_landing, options_.info.time_origin_ns, row, preroll);
     push_row(kRaw, static_cast<double>(raw.t_receive_ns) * 1e-9, row, raw_channel_count());
 }
 

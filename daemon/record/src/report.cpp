@@ -77,7 +77,18 @@ Result<ReportSummary> make_report(const xdf::File& file, const std::string& sour
                                   const std::string& out_dir) {
     auto decoded = decode_recording(file);
     if (!decoded) return decoded.error();
-    const Recording& rec = *decoded;
+    Recording& rec = *decoded;
+    // the pre-roll (chain history from before the recording started) is for replay only
+    std::size_t keep = 0;
+    for (std::size_t i = 0; i < rec.raw.size(); ++i) {
+        if (rec.raw_preroll[i]) continue;
+        rec.raw[keep] = rec.raw[i];
+        rec.raw_predict_landing[keep] = rec.raw_predict_landing[i];
+        rec.raw_preroll[keep++] = false;
+    }
+    rec.raw.resize(keep);
+    rec.raw_predict_landing.resize(keep);
+    rec.raw_preroll.resize(keep);
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) return make_error("cannot create " + out_dir + ": " + ec.message());

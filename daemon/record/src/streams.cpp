@@ -29,6 +29,7 @@ constexpr Ch kRaw[] = {
     {"device_id", "index", "Id"},
     {"truth_event", "fovea_event", "Event"},
     {"predict_landing", "bool", "Flag"},
+    {"preroll", "bool", "Flag"},  // from before record.start: replay warms the chain up on it
 };
 
 constexpr Ch kGaze[] = {
@@ -105,6 +106,8 @@ std::string setup_xml(const RecordingInfo& i) {
          std::to_string(d.height_px) + "</height_px><width_m>" + num(d.width_m) +
          "</width_m><height_m>" + num(d.height_m) + "</height_m><distance_m>" + num(d.distance_m) +
          "</distance_m></display>\n";
+    x += "    <preroll_from_start>" + std::string(i.preroll_from_start ? "1" : "0") +
+         "</preroll_from_start>\n";
     x += "    <events>0=unknown 1=fixation 2=saccade 3=pso 4=pursuit 5=blink</events>\n";
     return x;
 }
@@ -183,6 +186,7 @@ Result<RecordingInfo> recording_info_from_xml(const std::string& x) {
     i.clock.tick_hz = d("tick_hz", 1e9);
     i.binocular = d("binocular", 1) != 0;
     i.has_pupil = d("has_pupil", 0) != 0;
+    i.preroll_from_start = d("preroll_from_start", 0) != 0;
     i.display.width_px = static_cast<int>(d("width_px", i.display.width_px));
     i.display.height_px = static_cast<int>(d("height_px", i.display.height_px));
     i.display.width_m = d("width_m", i.display.width_m);
@@ -191,7 +195,8 @@ Result<RecordingInfo> recording_info_from_xml(const std::string& x) {
     return i;
 }
 
-void encode_raw(const gaze::RawSample& s, bool predict_landing, int64_t origin, double* r) {
+void encode_raw(const gaze::RawSample& s, bool predict_landing, int64_t origin, double* r,
+                bool preroll) {
     *r++ = static_cast<double>(s.device_ticks >> 32);
     *r++ = static_cast<double>(s.device_ticks & 0xFFFFFFFFull);
     *r++ = rel(s.t_receive_ns, origin);
@@ -200,9 +205,10 @@ void encode_raw(const gaze::RawSample& s, bool predict_landing, int64_t origin, 
     *r++ = static_cast<double>(s.device_id);
     *r++ = static_cast<double>(static_cast<int>(s.truth));
     *r++ = b(predict_landing);
+    *r++ = b(preroll);
 }
 
-gaze::RawSample decode_raw(const double* r, int64_t origin, bool* predict_landing) {
+gaze::RawSample decode_raw(const double* r, int64_t origin, bool* predict_landing, bool* preroll) {
     gaze::RawSample s;
     s.device_ticks = (static_cast<uint64_t>(r[0]) << 32) | static_cast<uint64_t>(r[1]);
     r += 2;
@@ -211,7 +217,8 @@ gaze::RawSample decode_raw(const double* r, int64_t origin, bool* predict_landin
     s.right = get_eye(r);
     s.device_id = static_cast<uint32_t>(*r++);
     s.truth = static_cast<gaze::Event>(static_cast<int>(*r++));
-    if (predict_landing) *predict_landing = *r != 0.0;
+    if (predict_landing) *predict_landing = r[0] != 0.0;
+    if (preroll) *preroll = r[1] != 0.0;
     return s;
 }
 

@@ -32,6 +32,7 @@ struct Recording {
     RecordingInfo info;
     std::vector<gaze::RawSample> raw;
     std::vector<bool> raw_predict_landing;
+    std::vector<bool> raw_preroll;
     std::vector<gaze::GazeSample> gaze;
     std::vector<int64_t> t_publish_ns;
     std::vector<uint64_t> ring_index;
@@ -51,7 +52,7 @@ struct ReplayResult {
     uint64_t recorded = 0, replayed = 0;
 };
 
-// Feed every raw sample (in file order, one pipeline per device_id, predict_landing as it was
+// Feed every raw sample (pre-roll first, to rebuild the chain state; in file order, one pipeline per device_id, predict_landing as it was
 // live) through a fresh gaze::Pipeline and compare with the recorded processed stream, field by
 // field and bit for bit (times that the daemon stamps itself, t_processed_ns, excepted: the
 // replay stamps its own). The live daemon may stop before its pipeline's look-ahead drained, so

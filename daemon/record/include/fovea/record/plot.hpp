@@ -58,6 +58,7 @@ private:
     bool xlog_ = false, ylog_ = false;
     int left_ = 70, right_ = 20, top_ = 34, bottom_ = 46;
     std::vector<std::pair<std::string, Rgb>> legend_;
+    int vlines_ = 0;
 };
 
 // 1-2-5 tick values covering [lo, hi] (about `target` of them).

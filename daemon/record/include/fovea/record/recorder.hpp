@@ -64,7 +64,8 @@ public:
 
     // Every raw sample from the driver; predict_landing = the pipeline's setting at the time
     // (replay uses it to reproduce the live run).
-    void push_raw(const gaze::RawSample& raw, bool predict_landing);
+    // preroll: a sample from before start() (the chain's warm-up history; see RecordingInfo).
+    void push_raw(const gaze::RawSample& raw, bool predict_landing, bool preroll = false);
     // Every processed sample, after it was published into the ring at t_publish_ns with index
     // ring_index (records the gaze row and the latency row).
     void push_gaze(const gaze::GazeSample& sample, int64_t t_publish_ns, uint64_t ring_index);

@@ -39,6 +39,9 @@ struct RecordingInfo {
     bool has_pupil = false;
     int64_t time_origin_ns = 0;  // CLOCK_MONOTONIC at the start of the recording
     std::string hostname;
+    // The raw stream starts with every sample the chain has seen since it was created (pre-roll
+    // rows flagged), so replay reproduces the live chain state exactly.
+    bool preroll_from_start = false;
 };
 
 xdf::StreamInfo raw_stream_info(const RecordingInfo& info);
@@ -53,8 +56,10 @@ int gaze_channel_count();
 int latency_channel_count();
 
 // sample <-> row. `row` has the stream's channel count.
-void encode_raw(const gaze::RawSample& s, bool predict_landing, int64_t origin_ns, double* row);
-gaze::RawSample decode_raw(const double* row, int64_t origin_ns, bool* predict_landing = nullptr);
+void encode_raw(const gaze::RawSample& s, bool predict_landing, int64_t origin_ns, double* row,
+                bool preroll = false);
+gaze::RawSample decode_raw(const double* row, int64_t origin_ns, bool* predict_landing = nullptr,
+                           bool* preroll = nullptr);
 void encode_gaze(const gaze::GazeSample& s, int64_t t_publish_ns, uint64_t ring_index,
                  int64_t origin_ns, double* row);
 gaze::GazeSample decode_gaze(const double* row, int64_t origin_ns, int64_t* t_publish_ns = nullptr,
