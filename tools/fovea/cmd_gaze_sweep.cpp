@@ -15,8 +15,14 @@
 #include <string>
 #include <vector>
 
+// Static: other objects linked into `fovea` (fovea_record, vk tools) carry their own copy.
+#define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include <stb/stb_image_write.h>
+#pragma GCC diagnostic pop
 
 #include "command.hpp"
 #include "fovea/gaze/labelled.hpp"
