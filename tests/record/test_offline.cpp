@@ -45,10 +45,13 @@ LiveRun record_sim(const std::string& path, double seconds, uint64_t seed, doubl
     o.info.clock.tick_hz = sc.tick_hz;
     o.info.display = sc.display;
     o.flush_interval_ns = 50'000'000;
-    gaze::Pipeline pipeline(pipeline_config(o.info));
+    // as fovead: built without landing prediction, switched on when a reader attaches
+    gaze::PipelineConfig pc = pipeline_config(o.info);
+    pc.predict_landing = false;
+    gaze::Pipeline pipeline(pc);
     LiveRun live{path, {}, {}};
     std::vector<gaze::GazeSample> out;
-    bool predict = true;
+    bool predict = false;
     std::vector<std::pair<gaze::RawSample, bool>> history;
     for (int i = 0; i < static_cast<int>(warmup_s * sc.rate_hz); ++i) {
         auto f = tracker.next();

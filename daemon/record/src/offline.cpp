@@ -170,8 +170,11 @@ ReplayResult replay(const Recording& rec) {
         const auto& raw = rec.raw[i];
         auto& p = pipelines[raw.device_id];
         if (!p) {
-            p = std::make_unique<gaze::Pipeline>(cfg);
-            predict[raw.device_id] = cfg.predict_landing;
+            // construct in the state the live chain had, not toggled afterwards
+            gaze::PipelineConfig c = cfg;
+            c.predict_landing = rec.raw_predict_landing[i];
+            p = std::make_unique<gaze::Pipeline>(c);
+            predict[raw.device_id] = c.predict_landing;
         }
         const bool pl = rec.raw_predict_landing[i];
         if (predict[raw.device_id] != pl) {
