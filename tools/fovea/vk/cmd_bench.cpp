@@ -113,8 +113,9 @@ int run_bench(const BenchOptions& o) {
         auto post = demo::run(*device, po);
         if (post && post->size() > 1 && (*post)[1].error.empty()) {
             cps["taa_enhance_ms"] = (*post)[1].ms_median - cps["ms_per_frame"].get<double>();
-            cps["taa_enhance_fraction_of_full"] =
-                cps["taa_enhance_ms"].get<double>() / (*results)[0].method_gpu_ms;
+            if ((*results)[0].method_gpu_ms > 0.0)
+                cps["taa_enhance_fraction_of_full"] =
+                    cps["taa_enhance_ms"].get<double>() / (*results)[0].method_gpu_ms;
         }
         std::fprintf(table, "cps: atd %.5f (no TAA %.5f), saccade recovery %d frames (%d without "
                      "the term), taa+contrast %.1f ms\n", pf.atd, pf.atd_no_taa,
