@@ -68,12 +68,13 @@ void main() {
         // Terrain: march the height field up to the nearest object, refine by bisection.
         float tt = kNear, prev = kNear;
         bool hit = false;
-        for (int s = 0; s < 96 && tt < best; ++s) {
+        for (int s = 0; s < 64 && tt < best; ++s) {
             vec3 q = ro + tt * rd;
+            if (q.y > 1.25 && rd.y >= 0.0) break;  // above the terrain's highest point, rising
             float dh = q.y - demo_terrain_height(q.xz);
             if (dh < 0.0) { hit = true; break; }
             prev = tt;
-            tt += max(0.02, 0.45 * dh) * (1.0 + 0.01 * tt);
+            tt += max(0.03, 0.6 * dh) * (1.0 + 0.01 * tt);
         }
         if (hit) {
             float lo = prev, hi = tt;

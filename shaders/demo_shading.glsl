@@ -1,5 +1,5 @@
 // The demo host's shading function (the contract in sdk/include/fovea/vk/foveator.hpp): deliberately
-// expensive, in the spirit of Guenter's test scene — 16 coloured point lights plus a sun with GGX
+// expensive, in the spirit of Guenter's test scene — 24 coloured point lights plus a sun with GGX
 // specular, an analytic environment map (sky gradient, sun, fbm clouds) for the background and
 // reflections, and procedural textures with high-frequency detail (fbm value noise, filtered
 // checkers, stripes). Everything is pre-filtered over the footprint fp.world_size, so coarse
@@ -8,7 +8,7 @@
 //   host[0].x: zone plate k (phase = pi k r^2, r in plane units); host[0].y: grating frequency
 //   (cycles per plane unit); host[0].z: plane units per pixel (for the pre-filter width).
 
-const int kLights = 16;
+const int kLights = 24;
 const float kPi = 3.14159265358979;
 
 float demo_hash(vec3 p) {
