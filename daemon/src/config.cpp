@@ -59,6 +59,12 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                        read_number(*d, "distance_m", g.distance_m, 1e-3, 100, origin, "display.")})
             if (!r) return r.error();
     }
+    if (const toml::node* z = root.get("zmq")) {
+        auto zc = z->is_table() ? parse_zmq_config(*z->as_table(), origin)
+                                : Result<ZmqConfig>(key_error(origin, "zmq", "must be a table"));
+        if (!zc) return zc.error();
+        cfg.zmq = std::move(zc).value();
+    }
     if (const toml::node* devs = root.get("device")) {
         const toml::array* arr = devs->as_array();
         if (!arr) return key_error(origin, "device", "must be an array of tables ([[device]])");

@@ -10,6 +10,7 @@
 
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
+#include "zmq_publisher.hpp"
 
 namespace fovea::daemon {
 
@@ -18,6 +19,7 @@ struct DaemonConfig {
     std::string log_level = "info";
     uint32_t ring_slots = 4096;
     gaze::DisplayGeometry display;
+    ZmqConfig zmq;                     // [zmq]: Pupil-style gaze fan-out, off by default
     std::vector<toml::table> devices;  // [[device]] tables; empty means one simulated tracker
     std::string source_path;           // the file it came from, "" for defaults
 };

@@ -21,6 +21,7 @@
 #include "paths.hpp"
 #include "record_commands.hpp"
 #include "record_convert.hpp"
+#include "zmq_publisher.hpp"
 
 namespace fovea::daemon {
 
@@ -150,6 +151,7 @@ Result<void> Daemon::start() {
 
     register_commands();
     attach_recording(*this);  // record.* / latency.* commands and status sections
+    if (auto r = attach_zmq_publisher(*this); !r) return r;  // [zmq] fan-out, when configured
     bool socket_from_systemd = false;
 #ifdef FOVEA_HAVE_SYSTEMD
     if (sd_listen_fds(1) >= 1) {

@@ -1,0 +1,492 @@
+#include "zmq_publisher.hpp"
+
+#include <msgpack.h>
+#include <zmq.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+
+#include <boost/asio/steady_timer.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include "daemon.hpp"
+
+namespace fovea::daemon {
+namespace {
+
+constexpr const char* kEventNames[] = {"unknown", "fixation", "saccade", "pso", "pursuit", "blink"};
+constexpr int kLingerMs = 200;  // flush queued samples on shutdown, but never hang the stop
+
+std::string zmq_error(const std::string& what) {
+    return what + ": " + zmq_strerror(zmq_errno());
+}
+
+std::string last_endpoint(void* socket, const std::string& fallback) {
+    char ep[256] = {};
+    std::size_t len = sizeof ep;
+    return zmq_getsockopt(socket, ZMQ_LAST_ENDPOINT, ep, &len) == 0 ? std::string(ep) : fallback;
+}
+
+// Pupil Remote requests are rare (a client asks once for the port); 20 Hz polling is plenty and
+// keeps the REP socket out of the loop's readiness machinery.
+constexpr auto kRemotePoll = std::chrono::milliseconds(50);
+
+void poll_remote(std::weak_ptr<ZmqPublisher> weak, std::shared_ptr<boost::asio::steady_timer> timer) {
+    timer->expires_after(kRemotePoll);
+    timer->async_wait([weak, timer](boost::system::error_code ec) {
+        auto p = weak.lock();
+        if (ec || !p) return;
+        p->serve_remote();
+        poll_remote(weak, timer);
+    });
+}
+
+// --- encoding -------------------------------------------------------------------------------
+
+class Packer {
+public:
+    Packer() {
+        msgpack_sbuffer_init(&buf_);
+        msgpack_packer_init(&pk_, &buf_, msgpack_sbuffer_write);
+    }
+    ~Packer() { msgpack_sbuffer_destroy(&buf_); }
+    Packer(const Packer&) = delete;
+    Packer& operator=(const Packer&) = delete;
+
+    void map(uint32_t n) { msgpack_pack_map(&pk_, n); }
+    void str(const std::string& s) {
+        msgpack_pack_str(&pk_, s.size());
+        msgpack_pack_str_body(&pk_, s.data(), s.size());
+    }
+    void key(const char* k) { str(k); }
+    void f64(double v) { msgpack_pack_double(&pk_, v); }
+    void i64(int64_t v) { msgpack_pack_int64(&pk_, v); }
+    void u64(uint64_t v) { msgpack_pack_uint64(&pk_, v); }
+    void boolean(bool b) { b ? msgpack_pack_true(&pk_) : msgpack_pack_false(&pk_); }
+    void pair(double a, double b) {
+        msgpack_pack_array(&pk_, 2);
+        f64(a);
+        f64(b);
+    }
+    std::string take() const { return std::string(buf_.data, buf_.size); }
+
+private:
+    msgpack_sbuffer buf_;
+    msgpack_packer pk_;
+};
+
+// Pupil's normalized coordinates have their origin bottom-left; Fovea's top-left.
+double flip_y(double y) { return 1.0 - y; }
+
+void pack_eye(Packer& p, const fovea_eye& e) {
+    p.map(4);
+    p.key("norm_pos");
+    p.pair(e.norm_x, flip_y(e.norm_y));
+    p.key("gaze_deg");
+    p.pair(e.deg_x, e.deg_y);
+    p.key("pupil_mm");
+    p.f64(e.pupil_mm);
+    p.key("valid");
+    p.boolean(e.valid & FOVEA_VALID);
+}
+
+// --- decoding -------------------------------------------------------------------------------
+
+const msgpack_object* find(const msgpack_object& map, const char* key) {
+    if (map.type != MSGPACK_OBJECT_MAP) return nullptr;
+    const std::size_t n = std::strlen(key);
+    for (uint32_t i = 0; i < map.via.map.size; ++i) {
+        const msgpack_object& k = map.via.map.ptr[i].key;
+        if (k.type == MSGPACK_OBJECT_STR && k.via.str.size == n &&
+            std::memcmp(k.via.str.ptr, key, n) == 0)
+            return &map.via.map.ptr[i].val;
+    }
+    return nullptr;
+}
+
+std::optional<double> number(const msgpack_object* o) {
+    if (!o) return std::nullopt;
+    switch (o->type) {
+        case MSGPACK_OBJECT_FLOAT32:
+        case MSGPACK_OBJECT_FLOAT64: return o->via.f64;
+        case MSGPACK_OBJECT_POSITIVE_INTEGER: return static_cast<double>(o->via.u64);
+        case MSGPACK_OBJECT_NEGATIVE_INTEGER: return static_cast<double>(o->via.i64);
+        default: return std::nullopt;
+    }
+}
+
+// Integers are read exactly (doubles would round nanosecond times).
+std::optional<int64_t> integer(const msgpack_object* o) {
+    if (!o) return std::nullopt;
+    if (o->type == MSGPACK_OBJECT_POSITIVE_INTEGER) return static_cast<int64_t>(o->via.u64);
+    if (o->type == MSGPACK_OBJECT_NEGATIVE_INTEGER) return o->via.i64;
+    return std::nullopt;
+}
+
+bool pair(const msgpack_object* o, double out[2]) {
+    if (!o || o->type != MSGPACK_OBJECT_ARRAY || o->via.array.size != 2) return false;
+    for (int i = 0; i < 2; ++i) {
+        auto v = number(&o->via.array.ptr[i]);
+        if (!v) return false;
+        out[i] = *v;
+    }
+    return true;
+}
+
+bool eye(const msgpack_object* o, fovea_eye& e) {
+    double norm[2], deg[2];
+    const auto pupil = number(find(*o, "pupil_mm"));
+    const msgpack_object* valid = find(*o, "valid");
+    if (!pair(find(*o, "norm_pos"), norm) || !pair(find(*o, "gaze_deg"), deg) || !pupil || !valid ||
+        valid->type != MSGPACK_OBJECT_BOOLEAN)
+        return false;
+    e.norm_x = static_cast<float>(norm[0]);
+    e.norm_y = static_cast<float>(flip_y(norm[1]));
+    e.deg_x = static_cast<float>(deg[0]);
+    e.deg_y = static_cast<float>(deg[1]);
+    e.pupil_mm = static_cast<float>(*pupil);
+    e.valid = valid->via.boolean ? FOVEA_VALID : 0;
+    return true;
+}
+
+Result<void> fovea_fields(const msgpack_object& m, fovea_gaze_record& r) {
+    auto need_int = [&](const char* k, auto& out) -> bool {
+        auto v = integer(find(m, k));
+        if (v) out = static_cast<std::remove_reference_t<decltype(out)>>(*v);
+        return v.has_value();
+    };
+    if (!need_int("index", r.index) || !need_int("t_capture_ns", r.t_capture_ns) ||
+        !need_int("t_receive_ns", r.t_receive_ns) || !need_int("t_processed_ns", r.t_processed_ns) ||
+        !need_int("t_publish_ns", r.t_publish_ns) || !need_int("flags", r.flags) ||
+        !need_int("device_id", r.device_id))
+        return make_error("a Fovea integer field is missing or not an integer");
+    const msgpack_object* ev = find(m, "event");
+    if (!ev || ev->type != MSGPACK_OBJECT_STR) return make_error("event: not a string");
+    const std::string event(ev->via.str.ptr, ev->via.str.size);
+    r.event = FOVEA_EVENT_UNKNOWN;
+    for (uint32_t i = 0; i < std::size(kEventNames); ++i)
+        if (event == kEventNames[i]) r.event = i;
+    if (auto u = number(find(m, "clock_uncertainty_us"))) r.clock_uncertainty_us = static_cast<float>(*u);
+    for (auto [key, e] : {std::pair{"left", &r.left}, {"right", &r.right}, {"combined", &r.combined}}) {
+        const msgpack_object* o = find(m, key);
+        if (!o || !eye(o, *e)) return make_error(std::string(key) + ": malformed eye");
+    }
+    if (const msgpack_object* s = find(m, "saccade")) {
+        auto onset = integer(find(*s, "onset_ns"));
+        auto amp = number(find(*s, "amplitude_deg"));
+        auto peak = number(find(*s, "peak_velocity_dps"));
+        auto dir = number(find(*s, "direction_deg"));
+        if (!onset || !amp || !peak || !dir) return make_error("saccade: malformed");
+        r.saccade_onset_ns = *onset;
+        r.saccade_amplitude_deg = static_cast<float>(*amp);
+        r.saccade_peak_velocity_dps = static_cast<float>(*peak);
+        r.saccade_direction_deg = static_cast<float>(*dir);
+    }
+    if (const msgpack_object* l = find(m, "landing")) {
+        double norm[2], deg[2];
+        auto unc = number(find(*l, "uncertainty_deg"));
+        if (!pair(find(*l, "norm_pos"), norm) || !pair(find(*l, "gaze_deg"), deg) || !unc)
+            return make_error("landing: malformed");
+        r.landing_norm_x = static_cast<float>(norm[0]);
+        r.landing_norm_y = static_cast<float>(flip_y(norm[1]));
+        r.landing_deg_x = static_cast<float>(deg[0]);
+        r.landing_deg_y = static_cast<float>(deg[1]);
+        r.landing_uncertainty_deg = static_cast<float>(*unc);
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<ZmqConfig> parse_zmq_config(const toml::table& t, const std::string& origin) {
+    ZmqConfig c;
+    for (const auto& [key, node] : t)
+        if (key.str() != "publish" && key.str() != "send_hwm" && key.str() != "remote")
+            return make_error(origin + ": zmq." + std::string(key.str()) + ": unknown key");
+    if (const toml::node* n = t.get("publish")) {
+        auto v = n->value<std::string>();
+        if (!v || v->find("://") == std::string::npos)
+            return make_error(origin + ": zmq.publish: must be a ZeroMQ endpoint string such as "
+                              "\"tcp://127.0.0.1:50020\"");
+        c.publish = *v;
+    }
+    if (const toml::node* n = t.get("send_hwm")) {
+        auto v = n->value<int64_t>();
+        if (!v || *v < 1 || *v > 100'000'000)
+            return make_error(origin + ": zmq.send_hwm: must be an integer in [1, 100000000]");
+        c.send_hwm = static_cast<int>(*v);
+    }
+    if (const toml::node* n = t.get("remote")) {
+        auto v = n->value<std::string>();
+        if (!v || v->find("://") == std::string::npos)
+            return make_error(origin + ": zmq.remote: must be a ZeroMQ endpoint string such as "
+                              "\"tcp://127.0.0.1:50021\"");
+        c.remote = *v;
+    }
+    if (!c.remote.empty() && c.publish.empty())
+        return make_error(origin + ": zmq.remote: needs zmq.publish (the port it hands out)");
+    return c;
+}
+
+ZmqMessage encode_pupil_gaze(const fovea_gaze_record& r) {
+    const bool lv = r.left.valid & FOVEA_VALID, rv = r.right.valid & FOVEA_VALID;
+    // Pupil's eye0 is the right eye, eye1 the left; binocular (or eye-less combined) is "01".
+    ZmqMessage m;
+    const fovea_eye* main = &r.combined;
+    m.topic = "gaze.2d.01.";
+    if (rv && !lv) {
+        m.topic = "gaze.2d.0.";
+        main = &r.right;
+    } else if (lv && !rv) {
+        m.topic = "gaze.2d.1.";
+        main = &r.left;
+    }
+    const bool tracked = main->valid & FOVEA_VALID;
+
+    Packer p;
+    p.map(18);
+    p.key("topic");
+    p.str(m.topic);
+    p.key("norm_pos");
+    p.pair(main->norm_x, flip_y(main->norm_y));
+    p.key("confidence");
+    p.f64(tracked ? 1.0 : 0.0);
+    p.key("timestamp");
+    p.f64(static_cast<double>(r.t_capture_ns) / 1e9);
+    p.key("index");
+    p.u64(r.index);
+    p.key("event");
+    p.str(r.event < std::size(kEventNames) ? kEventNames[r.event] : "unknown");
+    p.key("flags");
+    p.u64(r.flags);
+    p.key("device_id");
+    p.u64(r.device_id);
+    p.key("t_capture_ns");
+    p.i64(r.t_capture_ns);
+    p.key("t_receive_ns");
+    p.i64(r.t_receive_ns);
+    p.key("t_processed_ns");
+    p.i64(r.t_processed_ns);
+    p.key("t_publish_ns");
+    p.i64(r.t_publish_ns);
+    p.key("clock_uncertainty_us");
+    p.f64(r.clock_uncertainty_us);
+    p.key("left");
+    pack_eye(p, r.left);
+    p.key("right");
+    pack_eye(p, r.right);
+    p.key("combined");
+    pack_eye(p, r.combined);
+    p.key("saccade");
+    p.map(4);
+    p.key("onset_ns");
+    p.i64(r.saccade_onset_ns);
+    p.key("amplitude_deg");
+    p.f64(r.saccade_amplitude_deg);
+    p.key("peak_velocity_dps");
+    p.f64(r.saccade_peak_velocity_dps);
+    p.key("direction_deg");
+    p.f64(r.saccade_direction_deg);
+    p.key("landing");
+    p.map(3);
+    p.key("norm_pos");
+    p.pair(r.landing_norm_x, flip_y(r.landing_norm_y));
+    p.key("gaze_deg");
+    p.pair(r.landing_deg_x, r.landing_deg_y);
+    p.key("uncertainty_deg");
+    p.f64(r.landing_uncertainty_deg);
+    m.payload = p.take();
+    return m;
+}
+
+Result<ZmqGaze> decode_pupil_gaze(const std::string& topic, const std::string& payload) {
+    msgpack_unpacked u;
+    msgpack_unpacked_init(&u);
+    std::size_t off = 0;
+    const auto rc = msgpack_unpack_next(&u, payload.data(), payload.size(), &off);
+    struct Guard {
+        msgpack_unpacked* u;
+        ~Guard() { msgpack_unpacked_destroy(u); }
+    } guard{&u};
+    if (rc != MSGPACK_UNPACK_SUCCESS || off != payload.size())
+        return make_error("payload is not one msgpack object");
+    const msgpack_object& m = u.data;
+    if (m.type != MSGPACK_OBJECT_MAP) return make_error("payload is not a msgpack map");
+    ZmqGaze g;
+    g.topic = topic;
+    const msgpack_object* t = find(m, "topic");
+    if (!t || t->type != MSGPACK_OBJECT_STR ||
+        std::string(t->via.str.ptr, t->via.str.size) != topic)
+        return make_error("topic field missing or different from the topic frame");
+    auto conf = number(find(m, "confidence"));
+    auto ts = number(find(m, "timestamp"));
+    if (!pair(find(m, "norm_pos"), g.norm_pos) || !conf || !ts)
+        return make_error("norm_pos, confidence or timestamp missing or malformed");
+    g.confidence = *conf;
+    g.timestamp = *ts;
+    if (find(m, "index") && find(m, "t_capture_ns")) {
+        if (auto r = fovea_fields(m, g.record); !r) return r.error();
+        g.fovea_fields = true;
+    } else {
+        g.record.combined.norm_x = static_cast<float>(g.norm_pos[0]);
+        g.record.combined.norm_y = static_cast<float>(flip_y(g.norm_pos[1]));
+        g.record.combined.valid = g.confidence > 0 ? FOVEA_VALID : 0;
+        g.record.t_capture_ns = static_cast<int64_t>(std::llround(g.timestamp * 1e9));
+    }
+    return g;
+}
+
+// --- publisher ------------------------------------------------------------------------------
+
+Result<std::unique_ptr<ZmqPublisher>> ZmqPublisher::bind(const ZmqConfig& config) {
+    std::unique_ptr<ZmqPublisher> p(new ZmqPublisher());
+    p->context_ = zmq_ctx_new();
+    if (!p->context_) return make_error(zmq_error("zmq: cannot create a context"));
+    p->socket_ = zmq_socket(p->context_, ZMQ_PUB);
+    if (!p->socket_) return make_error(zmq_error("zmq: cannot create a PUB socket"));
+    p->send_hwm_ = config.send_hwm;
+    const int linger = kLingerMs;
+    if (zmq_setsockopt(p->socket_, ZMQ_SNDHWM, &p->send_hwm_, sizeof p->send_hwm_) != 0 ||
+        zmq_setsockopt(p->socket_, ZMQ_LINGER, &linger, sizeof linger) != 0)
+        return make_error(zmq_error("zmq: setsockopt"));
+    if (zmq_bind(p->socket_, config.publish.c_str()) != 0)
+        return make_error(zmq_error("zmq.publish: cannot bind " + config.publish));
+    p->endpoint_ = last_endpoint(p->socket_, config.publish);
+    if (!config.remote.empty()) {
+        p->remote_ = zmq_socket(p->context_, ZMQ_REP);
+        if (!p->remote_) return make_error(zmq_error("zmq: cannot create a REP socket"));
+        const int zero = 0;
+        zmq_setsockopt(p->remote_, ZMQ_LINGER, &zero, sizeof zero);
+        if (zmq_bind(p->remote_, config.remote.c_str()) != 0)
+            return make_error(zmq_error("zmq.remote: cannot bind " + config.remote));
+        p->remote_endpoint_ = last_endpoint(p->remote_, config.remote);
+    }
+    return p;
+}
+
+ZmqPublisher::~ZmqPublisher() {
+    if (remote_) zmq_close(remote_);
+    if (socket_) zmq_close(socket_);
+    if (context_) zmq_ctx_term(context_);
+}
+
+void ZmqPublisher::publish(const fovea_gaze_record& record) {
+    const ZmqMessage m = encode_pupil_gaze(record);
+    if (zmq_send(socket_, m.topic.data(), m.topic.size(), ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
+        zmq_send(socket_, m.payload.data(), m.payload.size(), ZMQ_DONTWAIT) < 0) {
+        ++failed_;
+        return;
+    }
+    ++sent_;
+}
+
+void ZmqPublisher::serve_remote() {
+    if (!remote_) return;
+    char buf[256];
+    for (;;) {
+        const int n = zmq_recv(remote_, buf, sizeof buf, ZMQ_DONTWAIT);
+        if (n < 0) return;  // EAGAIN: nothing pending
+        ++remote_requests_;
+        const std::string cmd(buf, static_cast<std::size_t>(std::min<int>(n, sizeof buf)));
+        std::string reply = "Unknown command.";
+        if (cmd == "SUB_PORT") {
+            reply = endpoint_.substr(endpoint_.rfind(':') + 1);
+        } else if (cmd == "t") {
+            timespec ts{};
+            clock_gettime(CLOCK_MONOTONIC, &ts);  // the clock `timestamp` is in
+            reply = std::to_string(static_cast<double>(ts.tv_sec) + ts.tv_nsec / 1e9);
+        } else if (cmd == "v") {
+            reply = "fovea";
+        }
+        zmq_send(remote_, reply.data(), reply.size(), ZMQ_DONTWAIT);
+    }
+}
+
+nlohmann::json ZmqPublisher::status() const {
+    nlohmann::json s = {
+        {"endpoint", endpoint_}, {"send_hwm", send_hwm_}, {"sent", sent_}, {"failed", failed_}};
+    if (remote_) {
+        s["remote"] = remote_endpoint_;
+        s["remote_requests"] = remote_requests_;
+    }
+    return s;
+}
+
+Result<void> attach_zmq_publisher(Daemon& daemon) {
+    const ZmqConfig& cfg = daemon.config().zmq;
+    if (cfg.publish.empty()) return {};
+    auto pub = ZmqPublisher::bind(cfg);
+    if (!pub) return pub.error();
+    std::shared_ptr<ZmqPublisher> p = std::move(pub).value();
+    spdlog::default_logger()->info("zmq: publishing Pupil-style gaze on {}", p->endpoint());
+    daemon.add_published_observer(
+        [p](const gaze::GazeSample&, const fovea_gaze_record& rec) { p->publish(rec); });
+    daemon.add_status_section("zmq", [p] { return p->status(); });
+    if (p->has_remote()) {
+        spdlog::default_logger()->info("zmq: Pupil Remote on {}", p->remote_endpoint());
+        poll_remote(p, std::make_shared<boost::asio::steady_timer>(daemon.io()));
+    }
+    return {};
+}
+
+// --- subscriber -----------------------------------------------------------------------------
+
+Result<std::unique_ptr<ZmqGazeSubscriber>> ZmqGazeSubscriber::connect(const std::string& endpoint,
+                                                                     const std::string& prefix) {
+    std::unique_ptr<ZmqGazeSubscriber> s(new ZmqGazeSubscriber());
+    s->context_ = zmq_ctx_new();
+    if (!s->context_) return make_error(zmq_error("zmq: cannot create a context"));
+    s->socket_ = zmq_socket(s->context_, ZMQ_SUB);
+    if (!s->socket_) return make_error(zmq_error("zmq: cannot create a SUB socket"));
+    const int hwm = 1'000'000, linger = 0;
+    if (zmq_setsockopt(s->socket_, ZMQ_RCVHWM, &hwm, sizeof hwm) != 0 ||
+        zmq_setsockopt(s->socket_, ZMQ_LINGER, &linger, sizeof linger) != 0 ||
+        zmq_setsockopt(s->socket_, ZMQ_SUBSCRIBE, prefix.data(), prefix.size()) != 0)
+        return make_error(zmq_error("zmq: setsockopt"));
+    if (zmq_connect(s->socket_, endpoint.c_str()) != 0)
+        return make_error(zmq_error("zmq: cannot connect to " + endpoint));
+    return s;
+}
+
+ZmqGazeSubscriber::~ZmqGazeSubscriber() {
+    if (socket_) zmq_close(socket_);
+    if (context_) zmq_ctx_term(context_);
+}
+
+Result<std::optional<ZmqGaze>> ZmqGazeSubscriber::receive(int timeout_ms) {
+    using Clock = std::chrono::steady_clock;
+    const auto end = Clock::now() + std::chrono::milliseconds(timeout_ms);
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now());
+        zmq_pollitem_t item{socket_, 0, ZMQ_POLLIN, 0};
+        const int n = zmq_poll(&item, 1, std::max<long>(0, left.count()));
+        if (n < 0) return make_error(zmq_error("zmq: poll"));
+        if (n == 0) return std::optional<ZmqGaze>{};
+        // Read every frame of the message; Pupil messages may carry extra raw-data frames.
+        std::string frames[2];
+        int count = 0;
+        for (bool more = true; more; ++count) {
+            zmq_msg_t msg;
+            zmq_msg_init(&msg);
+            if (zmq_msg_recv(&msg, socket_, 0) < 0) {
+                zmq_msg_close(&msg);
+                return make_error(zmq_error("zmq: receive"));
+            }
+            if (count < 2)
+                frames[count].assign(static_cast<const char*>(zmq_msg_data(&msg)), zmq_msg_size(&msg));
+            more = zmq_msg_more(&msg);
+            zmq_msg_close(&msg);
+        }
+        if (count >= 2) {
+            auto g = decode_pupil_gaze(frames[0], frames[1]);
+            if (g) return std::optional<ZmqGaze>(std::move(g).value());
+        }
+        ++malformed_;
+        if (Clock::now() >= end) return std::optional<ZmqGaze>{};
+    }
+}
+
+}  // namespace fovea::daemon
