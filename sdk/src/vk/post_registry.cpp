@@ -2,6 +2,11 @@
 // line per pass; each factory is defined in its own sdk/src/vk/<name>*.cpp.
 #include "post_pass.hpp"
 
+// The block-scope factory declarations are intended.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wvexing-parse"
+#endif
+
 namespace fovea::vk {
 
 std::span<const PostPassEntry> post_pass_registry() {
