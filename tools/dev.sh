@@ -46,7 +46,7 @@ run_demo() {
     fi
     if "$bin/tools/fovea" --help 2>/dev/null | grep -q '^ *demo'; then
         step "SDK demo: foveated frames on lavapipe from live gaze"
-        "$bin/tools/fovea" --instance "$instance" demo --frames "${FOVEA_DEMO_FRAMES:-30}" --out build/demo
+        "$bin/tools/fovea" --instance "$instance" demo --frames "${FOVEA_DEMO_FRAMES:-4}" --out build/demo
     fi
     step "done"
 }
