@@ -2,6 +2,8 @@
 // elements as they arrive, count CNT gaps, reconnect with backoff when the server goes away.
 #include "gazepoint/gazepoint_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -27,55 +29,14 @@ using boost::asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 constexpr auto kConnectTimeout = std::chrono::seconds(2);
 
-int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
-// FOVEA_LOG_DRV_GAZEPOINT=debug sets the level.
 std::shared_ptr<spdlog::logger> logger() {
-    static const auto log = [] {
-        auto l = spdlog::get("drv.gazepoint");
-        if (!l) l = spdlog::stderr_color_mt("drv.gazepoint");
-        if (const char* level = std::getenv("FOVEA_LOG_DRV_GAZEPOINT"))
-            l->set_level(spdlog::level::from_str(level));
-        return l;
-    }();
+    static const auto log = driver_logger("gazepoint");  // FOVEA_LOG_DRV_GAZEPOINT=debug
     return log;
 }
 
-// One line per incident kind and second; the lines in between are counted, not lost.
-class LogLimiter {
-public:
-    void warn(const std::string& message) {
-        const auto now = Clock::now();
-        if (now - last_ < std::chrono::seconds(1)) {
-            ++suppressed_;
-            return;
-        }
-        if (suppressed_ != 0) {
-            logger()->warn("{} (+{} similar)", message, suppressed_);
-        } else {
-            logger()->warn("{}", message);
-        }
-        last_ = now;
-        suppressed_ = 0;
-    }
-
-private:
-    Clock::time_point last_{};
-    uint64_t suppressed_ = 0;
-};
-
 template <typename T>
 Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    const toml::node* node = t.get(key);
-    if (!node) return {};
-    const auto v = node->value<T>();
-    if (!v) return make_error(std::string("gazepoint: key '") + key + "' has the wrong type");
-    out = *v;
-    return {};
+    return drivers::read_key("gazepoint", t, key, out);
 }
 
 class GazepointDriver final : public Driver {
@@ -324,7 +285,7 @@ private:
     uint64_t last_cnt_ = 0;
     uint64_t window_start_ = 0;
     int window_n_ = 0;
-    LogLimiter connect_failures_, bad_;
+    LogLimiter connect_failures_{logger()}, bad_{logger()};
 
     mutable std::mutex mutex_;  // guards stats_, clock_, measured_rate_hz_ (any-thread readers)
     DriverStats stats_;

@@ -2,6 +2,8 @@
 // possible means batches of samples, yielding to the loop between batches.
 #include "replay/replay_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -25,21 +27,8 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kMinBatch = std::chrono::milliseconds(1);
 constexpr std::size_t kFastBatch = 1024;  // samples per loop turn when replaying at full speed
 
-int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
-// FOVEA_LOG_DRV_REPLAY=debug sets the level.
 std::shared_ptr<spdlog::logger> logger() {
-    static const auto log = [] {
-        auto l = spdlog::get("drv.replay");
-        if (!l) l = spdlog::stderr_color_mt("drv.replay");
-        if (const char* level = std::getenv("FOVEA_LOG_DRV_REPLAY"))
-            l->set_level(spdlog::level::from_str(level));
-        return l;
-    }();
+    static const auto log = driver_logger("replay");  // FOVEA_LOG_DRV_REPLAY=debug
     return log;
 }
 

@@ -2,6 +2,8 @@
 // with exponential backoff when the port goes away (unplugged, pty closed).
 #include "serial/serial_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <sys/ioctl.h>
 #include <time.h>
 
@@ -27,55 +29,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kHelloRetry = std::chrono::milliseconds(250);
 
-int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
-// FOVEA_LOG_DRV_SERIAL=debug sets the level.
 std::shared_ptr<spdlog::logger> logger() {
-    static const auto log = [] {
-        auto l = spdlog::get("drv.serial");
-        if (!l) l = spdlog::stderr_color_mt("drv.serial");
-        if (const char* level = std::getenv("FOVEA_LOG_DRV_SERIAL"))
-            l->set_level(spdlog::level::from_str(level));
-        return l;
-    }();
+    static const auto log = driver_logger("serial");  // FOVEA_LOG_DRV_SERIAL=debug
     return log;
 }
 
-// One line per incident kind and second; the lines in between are counted, not lost.
-class LogLimiter {
-public:
-    void warn(const std::string& message) {
-        const auto now = Clock::now();
-        if (now - last_ < std::chrono::seconds(1)) {
-            ++suppressed_;
-            return;
-        }
-        if (suppressed_ != 0) {
-            logger()->warn("{} (+{} similar)", message, suppressed_);
-        } else {
-            logger()->warn("{}", message);
-        }
-        last_ = now;
-        suppressed_ = 0;
-    }
-
-private:
-    Clock::time_point last_{};
-    uint64_t suppressed_ = 0;
-};
-
 template <typename T>
 Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    const toml::node* node = t.get(key);
-    if (!node) return {};
-    const auto v = node->value<T>();
-    if (!v) return make_error(std::string("serial: key '") + key + "' has the wrong type");
-    out = *v;
-    return {};
+    return drivers::read_key("serial", t, key, out);
 }
 
 class SerialDriver final : public Driver {
@@ -325,7 +286,7 @@ private:
     uint16_t host_seq_ = 0;
     uint64_t generation_ = 0;  // connection number
     bool ever_connected_ = false;
-    LogLimiter open_failures_, bad_frames_;
+    LogLimiter open_failures_{logger()}, bad_frames_{logger()};
 
     mutable std::mutex mutex_;  // guards stats_ and hello_ (stats()/describe() are any-thread)
     DriverStats stats_;

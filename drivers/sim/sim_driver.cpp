@@ -3,6 +3,8 @@
 // into a validated config, open() that arms the I/O, close() that disarms it, and counters.
 #include "sim/sim_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -25,33 +27,14 @@ namespace {
 constexpr auto kMinBatch = std::chrono::milliseconds(1);  // at most ~1000 wake-ups a second
 constexpr auto kMaxLag = std::chrono::seconds(1);         // beyond this, skip rather than burst
 
-int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
-// One logger per driver; FOVEA_LOG_DRV_SIM=debug (or trace, warn, ...) sets its level.
 std::shared_ptr<spdlog::logger> logger() {
-    static const auto log = [] {
-        auto l = spdlog::get("drv.sim");
-        if (!l) l = spdlog::stderr_color_mt("drv.sim");
-        if (const char* level = std::getenv("FOVEA_LOG_DRV_SIM"))
-            l->set_level(spdlog::level::from_str(level));
-        return l;
-    }();
+    static const auto log = driver_logger("sim");  // FOVEA_LOG_DRV_SIM=debug
     return log;
 }
 
-// Reads an optional key of type T; a present key of the wrong type is an error.
 template <typename T>
 Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    const toml::node* node = t.get(key);
-    if (!node) return {};
-    const auto v = node->value<T>();
-    if (!v) return make_error(std::string("sim: key '") + key + "' has the wrong type");
-    out = *v;
-    return {};
+    return drivers::read_key("sim", t, key, out);
 }
 
 Result<SimConfig> parse_config(const toml::table& t) {

@@ -1,0 +1,76 @@
+// Small helpers every driver needs: host time, a per-driver logger, typed config keys and
+// rate-limited incident logging. Header-only; drivers include it from their .cpp files.
+#pragma once
+
+#include <time.h>
+
+#include <cctype>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <toml++/toml.h>
+
+#include "fovea/result.hpp"
+
+namespace fovea::drivers {
+
+inline int64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// The logger "drv.<name>"; FOVEA_LOG_DRV_<NAME>=debug (trace, warn, ...) sets its level.
+inline std::shared_ptr<spdlog::logger> driver_logger(const std::string& name) {
+    const std::string id = "drv." + name;
+    auto l = spdlog::get(id);
+    if (l) return l;
+    l = spdlog::stderr_color_mt(id);
+    std::string env = "FOVEA_LOG_DRV_";
+    for (char c : name) env += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (const char* level = std::getenv(env.c_str())) l->set_level(spdlog::level::from_str(level));
+    return l;
+}
+
+// Read an optional key of type T; a present key of the wrong type is an error naming it.
+template <typename T>
+Result<void> read_key(const char* driver, const toml::table& t, const char* key, T& out) {
+    const toml::node* node = t.get(key);
+    if (!node) return {};
+    const auto v = node->value<T>();
+    if (!v) return make_error(std::string(driver) + ": key '" + key + "' has the wrong type");
+    out = *v;
+    return {};
+}
+
+// One line per incident kind and second; the lines in between are counted, not lost.
+class LogLimiter {
+public:
+    explicit LogLimiter(std::shared_ptr<spdlog::logger> log) : log_(std::move(log)) {}
+
+    void warn(const std::string& message) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_ < std::chrono::seconds(1)) {
+            ++suppressed_;
+            return;
+        }
+        if (suppressed_ != 0)
+            log_->warn("{} (+{} similar)", message, suppressed_);
+        else
+            log_->warn("{}", message);
+        last_ = now;
+        suppressed_ = 0;
+    }
+
+private:
+    std::shared_ptr<spdlog::logger> log_;
+    std::chrono::steady_clock::time_point last_{};
+    uint64_t suppressed_ = 0;
+};
+
+}  // namespace fovea::drivers
