@@ -139,23 +139,26 @@ struct SimServer::Impl : std::enable_shared_from_this<Impl> {
         }
         c->writing = true;
         auto batch = std::make_shared<std::string>();
-        uint64_t records = 0;
+        // (end offset, records) per queued element: a write cut short by stop() still counts
+        // the records that reached the kernel whole.
+        auto ends = std::make_shared<std::vector<std::pair<std::size_t, uint64_t>>>();
         while (!c->queue.empty()) {
             *batch += c->queue.front().first;
-            records += c->queue.front().second;
+            ends->emplace_back(batch->size(), c->queue.front().second);
             c->queue.pop_front();
         }
         c->queued_bytes = 0;
         boost::asio::async_write(
             c->socket, boost::asio::buffer(*batch),
-            [self = shared_from_this(), c, batch, records](boost::system::error_code ec,
-                                                          std::size_t) {
+            [self = shared_from_this(), c, batch, ends](boost::system::error_code ec,
+                                                       std::size_t written) {
                 c->writing = false;
+                for (const auto& [end, n] : *ends)
+                    if (end <= written) self->stats.records += n;  // handed to the kernel: sent
                 if (ec) {
                     self->drop(c);
                     return;
                 }
-                self->stats.records += records;  // handed to the kernel: sent
                 self->flush(c);
             });
     }
