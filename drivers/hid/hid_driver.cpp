@@ -1,5 +1,7 @@
 #include "hid/hid_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -21,32 +23,9 @@
 namespace fovea::drivers::hid {
 namespace {
 
-int64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
 std::shared_ptr<spdlog::logger> logger() {
-    static std::shared_ptr<spdlog::logger> log = [] {
-        auto l = spdlog::get("drv.hid");
-        return l ? l : spdlog::default_logger()->clone("drv.hid");
-    }();
+    static const auto log = driver_logger("hid");  // FOVEA_LOG_DRV_HID=debug
     return log;
-}
-
-// VID/PID as an integer or a (hex) string: 0x046d, "046d", "0x046d".
-std::optional<uint16_t> parse_id(const toml::node_view<const toml::node>& v) {
-    if (auto i = v.value<int64_t>(); i && *i >= 0 && *i <= 0xFFFF) return static_cast<uint16_t>(*i);
-    if (auto s = v.value<std::string>()) {
-        try {
-            std::size_t used = 0;
-            const unsigned long n = std::stoul(*s, &used, 16);
-            if (used == s->size() && n <= 0xFFFF) return static_cast<uint16_t>(n);
-        } catch (...) {
-        }
-    }
-    return std::nullopt;
 }
 
 struct Config {
@@ -201,7 +180,7 @@ private:
     void handle(std::span<const uint8_t> report) {
         gaze::RawSample sample;
         HeadPose pose;
-        const auto out = session_->on_report(report, now_ns(), device_id_, sample, pose);
+        const auto out = session_->on_report(report, monotonic_ns(), device_id_, sample, pose);
         {
             std::lock_guard lk(stats_mu_);
             stats_.bytes += report.size();
@@ -241,11 +220,11 @@ Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t 
     Config cfg;
     cfg.path = config["path"].value_or(std::string());
     if (config.contains("vid")) {
-        cfg.vid = parse_id(config["vid"]);
+        cfg.vid = parse_usb_id(config["vid"]);
         if (!cfg.vid) return make_error("hid: 'vid' must be 0..0xFFFF (integer or hex string)");
     }
     if (config.contains("pid")) {
-        cfg.pid = parse_id(config["pid"]);
+        cfg.pid = parse_usb_id(config["pid"]);
         if (!cfg.pid) return make_error("hid: 'pid' must be 0..0xFFFF (integer or hex string)");
     }
     cfg.serial = config["serial"].value_or(std::string());

@@ -1,5 +1,7 @@
 #include "usb/usb_driver.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 #include <time.h>
 
 #include <atomic>
@@ -19,31 +21,9 @@
 namespace fovea::drivers::usb {
 namespace {
 
-int64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
 std::shared_ptr<spdlog::logger> logger() {
-    static std::shared_ptr<spdlog::logger> log = [] {
-        auto l = spdlog::get("drv.usb");
-        return l ? l : spdlog::default_logger()->clone("drv.usb");
-    }();
+    static const auto log = driver_logger("usb");  // FOVEA_LOG_DRV_USB=debug
     return log;
-}
-
-std::optional<uint16_t> parse_id(const toml::node_view<const toml::node>& v) {
-    if (auto i = v.value<int64_t>(); i && *i >= 0 && *i <= 0xFFFF) return static_cast<uint16_t>(*i);
-    if (auto s = v.value<std::string>()) {
-        try {
-            std::size_t used = 0;
-            const unsigned long n = std::stoul(*s, &used, 16);
-            if (used == s->size() && n <= 0xFFFF) return static_cast<uint16_t>(n);
-        } catch (...) {
-        }
-    }
-    return std::nullopt;
 }
 
 TransferStatus to_status(libusb_transfer_status s) {
@@ -135,7 +115,7 @@ public:
         const TransferStatus st = to_status(t->status);
         if ((st == TransferStatus::kCompleted || st == TransferStatus::kTimedOut) &&
             t->actual_length > 0)
-            stream_.feed({t->buffer, static_cast<std::size_t>(t->actual_length)}, now_ns(),
+            stream_.feed({t->buffer, static_cast<std::size_t>(t->actual_length)}, monotonic_ns(),
                          device_id_, pending_);
         switch (set_->on_complete(slot, st, static_cast<std::size_t>(t->actual_length))) {
         case Action::kResubmit: submit(slot); break;
@@ -419,8 +399,8 @@ private:
 
 Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id) {
     Config cfg;
-    const auto vid = parse_id(config["vid"]);
-    const auto pid = parse_id(config["pid"]);
+    const auto vid = parse_usb_id(config["vid"]);
+    const auto pid = parse_usb_id(config["pid"]);
     if (!vid || !pid)
         return make_error("usb: 'vid' and 'pid' are required (0..0xFFFF, integer or hex string)");
     cfg.vid = *vid;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -46,6 +47,20 @@ Result<void> read_key(const char* driver, const toml::table& t, const char* key,
     if (!v) return make_error(std::string(driver) + ": key '" + key + "' has the wrong type");
     out = *v;
     return {};
+}
+
+// A USB vendor or product id from config: an integer or a hex string ("046d", "0x046d").
+inline std::optional<uint16_t> parse_usb_id(const toml::node_view<const toml::node>& v) {
+    if (auto i = v.value<int64_t>(); i && *i >= 0 && *i <= 0xFFFF) return static_cast<uint16_t>(*i);
+    if (auto s = v.value<std::string>()) {
+        try {
+            std::size_t used = 0;
+            const unsigned long n = std::stoul(*s, &used, 16);
+            if (used == s->size() && n <= 0xFFFF) return static_cast<uint16_t>(n);
+        } catch (...) {
+        }
+    }
+    return std::nullopt;
 }
 
 // One line per incident kind and second; the lines in between are counted, not lost.
