@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "fovea/vk/acuity.hpp"
 #include "fovea/vk/device.hpp"
 #include "gpu.hpp"
 #include "image_model.hpp"
@@ -163,6 +166,13 @@ public:
         u.extent[1] = float(extent_.height);
         u.gaze_px[0] = gaze_x;
         u.gaze_px[1] = gaze_y;
+        if (display_) {  // as Foveator fills the frame uniforms
+            constexpr double kDegToRad = 0.017453292519943295;
+            u.display_size_px[0] = u.extent[0];
+            u.display_size_px[1] = u.extent[1];
+            u.display_half_tan[0] = float(std::tan(display_->fov_h_deg * 0.5 * kDegToRad));
+            u.display_half_tan[1] = float(std::tan(display_->fov_v_deg * 0.5 * kDegToRad));
+        }
         dev_.submit_and_wait([&](VkCommandBuffer cmd) {
             for (int i = 0; i < frames; ++i) {
                 const PostFrame f{cmd,       VK_NULL_HANDLE, frame_++,      u,
@@ -174,6 +184,9 @@ public:
             }
         });
     }
+
+    // The display the frame uniforms describe (eccentricity, pixels per degree); none by default.
+    void set_display(const EyeDisplay& d) { display_ = d; }
 
     post::Image output(int channels = 3) const { return download(dev_, color_out_.ref(), channels); }
     FoveatorConfig& config() { return config_; }
@@ -188,6 +201,7 @@ private:
     Buffer stats_;
     vk::Image color_in_, color_out_, depth_, motion_, rate_;
     uint64_t frame_ = 0;
+    std::optional<EyeDisplay> display_;
 };
 
 }  // namespace fovea::vk::testing

@@ -1,0 +1,216 @@
+// Post pass "noise": Tariq 2022's Gabor-noise enhancement (after TAA) as four compute stages:
+// display luminance + Gaussian pyramid G0..G3 (enhance_luma, enhance_reduce), the level-3 Sobel
+// and min/max field (enhance_noise_gradient), per-impulse Gabor parameters on a fixed
+// constant-seed grid (enhance_noise_impulses), and the per-pixel sparse convolution added to
+// every channel after gamma (enhance_noise_apply). CPU reference: gabor_noise() in
+// enhance_model.cpp. Options: noise.impulses (12..64 per kernel, 16), noise.blur_rate
+// (arcmin/deg for s_k, s_f from Tariq Table 2, 0.34), noise.sk, noise.sf (override the table).
+// Needs an extent of at least 8×8 (the level-3 pyramid). Called on the host's render thread.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "post/enhance_model.hpp"
+#include "post_pass.hpp"
+
+namespace fovea::vk {
+namespace {
+
+// Level 3 is where Tariq reads orientation and the min/max headroom; the Laplacian levels an
+// S_t <= 1 blur selects (l_p < 1.6) are covered by G0..G3 as well.
+constexpr uint32_t kPyramidLevels = 4;
+
+// Mirrors shaders/enhance_noise_push.glsl.
+struct NoisePush {
+    float display_size_px[2];
+    float display_half_tan[2];
+    float gaze_px[2];
+    float ppd;
+    float s_k;
+    float s_f;
+    float attenuation_p;
+    float radius;
+    float bandwidth;
+    float norm;
+    int32_t per_cell;
+    int32_t cells_x;
+    int32_t cells_y;
+    uint32_t seed;
+};
+
+// Pixels per degree at the display centre, as EyeDisplay::pixels_per_degree() computes it
+// (fovea_pixel_size_deg at the centre); 0 when the frame carries no display.
+float centre_pixels_per_degree(const FrameUniforms& u) {
+    if (!(u.display_half_tan[0] > 0.0f && u.display_half_tan[1] > 0.0f)) return 0.0f;
+    const float sx = u.display_size_px[0] * 0.5f / u.display_half_tan[0];
+    const float sy = u.display_size_px[1] * 0.5f / u.display_half_tan[1];
+    return 1.0f / (std::max(1.0f / sx, 1.0f / sy) * 57.29577951308232f);
+}
+
+class NoisePass final : public PostPass {
+public:
+    Result<void> init(const ModuleContext& ctx) override {
+        device_ = ctx.device.device();
+        const VkExtent2D e = ctx.extent;
+        if (e.width < 8 || e.height < 8) return make_error("noise pass needs at least 8x8 pixels");
+        const int impulses = int(ctx.option_number("noise.impulses", 16));
+        if (impulses < 12 || impulses > 64)
+            return make_error("noise.impulses must be in [12, 64] (Tariq 2022 §6.3)");
+        const post::EnhanceCalibration cal =
+            post::calibration_for_blur_rate(float(ctx.option_number("noise.blur_rate", 0.34)));
+        params_.impulses_per_kernel = impulses;
+        params_.s_k = float(ctx.option_number("noise.sk", cal.s_k));
+        params_.s_f = float(ctx.option_number("noise.sf", cal.s_f));
+        if (!(params_.s_k >= 0.0f && params_.s_k < 1e3f)) return make_error("noise.sk out of range");
+        if (!(params_.s_f > 0.0f && params_.s_f < 1e3f)) return make_error("noise.sf out of range");
+
+        const float r = post::gabor_radius(params_.kernel_bandwidth);
+        const int per_cell = post::impulses_per_cell(impulses);
+        const float a = params_.kernel_bandwidth;
+        // Cells cover every pixel's 3×3 neighbourhood: indices −1 .. floor((w − ½)/r) + 1.
+        push_.cells_x = int32_t(std::floor((float(e.width) - 0.5f) / r)) + 3;
+        push_.cells_y = int32_t(std::floor((float(e.height) - 0.5f) / r)) + 3;
+        push_.radius = r;
+        push_.bandwidth = a;
+        push_.norm = 1.0f / std::sqrt(float(per_cell) / (r * r) / 3.0f / (4.0f * a * a));
+        push_.per_cell = per_cell;
+        push_.s_k = params_.s_k;
+        push_.s_f = params_.s_f;
+        push_.attenuation_p = params_.attenuation_p;
+        push_.seed = params_.seed;
+
+        const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
+        pyramid_ = Image(ctx.device, e, VK_FORMAT_R32_SFLOAT, usage, kPyramidLevels);
+        field_ = Image(ctx.device, {std::max(1u, e.width >> 3), std::max(1u, e.height >> 3)},
+                       VK_FORMAT_R32G32B32A32_SFLOAT, usage);
+        const VkDeviceSize cells = VkDeviceSize(push_.cells_x) * VkDeviceSize(push_.cells_y);
+        impulses_ = Buffer(ctx.device, cells * per_cell * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                           false);
+        amplitudes_ = Buffer(ctx.device, cells * per_cell * 4,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        cell_peaks_ = Buffer(ctx.device, cells * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+
+        const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        const Binding buf{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        const Binding luma_b[] = {img, img};
+        const Binding red_b[] = {img, img};
+        const Binding grad_b[] = {img, img, img};
+        const Binding imp_b[] = {img, img, img, img, img, img, buf, buf, buf};
+        const Binding app_b[] = {img, img, buf, buf, buf};
+        luma_ = ctx.builtin_pipeline("enhance_luma.comp", luma_b, 0, false);
+        reduce_ = ctx.builtin_pipeline("enhance_reduce.comp", red_b, 0, false);
+        gradient_ = ctx.builtin_pipeline("enhance_noise_gradient.comp", grad_b, 0, false);
+        impulse_ = ctx.builtin_pipeline("enhance_noise_impulses.comp", imp_b, sizeof(NoisePush),
+                                        false);
+        apply_ = ctx.builtin_pipeline("enhance_noise_apply.comp", app_b, sizeof(NoisePush), false);
+        for (uint32_t l = 0; l + 1 < kPyramidLevels; ++l) {
+            VkDescriptorSet s = reduce_.allocate_set();
+            DescriptorWriter(device_, s)
+                .storage_image(0, pyramid_.mip_view(l))
+                .storage_image(1, pyramid_.mip_view(l + 1))
+                .commit();
+            reduce_sets_.push_back(s);
+        }
+        gradient_set_ = gradient_.allocate_set();
+        DescriptorWriter(device_, gradient_set_)
+            .storage_image(0, pyramid_.mip_view(0))
+            .storage_image(1, pyramid_.mip_view(3))
+            .storage_image(2, field_.view())
+            .commit();
+        return {};
+    }
+
+    void record(const PostFrame& f) override {
+        const VkExtent2D e = f.color_in.extent;
+        NoisePush push = push_;
+        std::copy_n(f.uniforms.display_size_px, 2, push.display_size_px);
+        std::copy_n(f.uniforms.display_half_tan, 2, push.display_half_tan);
+        std::copy_n(f.uniforms.gaze_px, 2, push.gaze_px);
+        push.ppd = centre_pixels_per_degree(f.uniforms);
+
+        luma_.bind(f.cmd, VK_NULL_HANDLE, luma_set(f.color_in.view));
+        vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
+        compute_barrier(f.cmd);
+        for (uint32_t l = 0; l < reduce_sets_.size(); ++l) {
+            reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[l]);
+            vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)), 8),
+                          div_up(std::max(1u, e.height >> (l + 1)), 8), 1);
+            compute_barrier(f.cmd);
+        }
+        gradient_.bind(f.cmd, VK_NULL_HANDLE, gradient_set_);
+        vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> 3), 8),
+                      div_up(std::max(1u, e.height >> 3), 8), 1);
+        compute_barrier(f.cmd);
+        impulse_.bind(f.cmd, VK_NULL_HANDLE, impulse_set(f.rate.view), &push, sizeof(push));
+        vkCmdDispatch(f.cmd, div_up(uint32_t(push.cells_x * push.cells_y), 64), 1, 1);
+        compute_barrier(f.cmd);
+        apply_.bind(f.cmd, VK_NULL_HANDLE, apply_set(f.color_in.view, f.color_out.view), &push,
+                    sizeof(push));
+        vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
+    }
+
+private:
+    // Descriptor sets per bound view, made once: the Foveator alternates a few images.
+    VkDescriptorSet luma_set(VkImageView colour) {
+        auto it = luma_sets_.find(colour);
+        if (it != luma_sets_.end()) return it->second;
+        VkDescriptorSet s = luma_.allocate_set();
+        DescriptorWriter(device_, s)
+            .storage_image(0, colour)
+            .storage_image(1, pyramid_.mip_view(0))
+            .commit();
+        return luma_sets_.emplace(colour, s).first->second;
+    }
+
+    VkDescriptorSet impulse_set(VkImageView rate) {
+        auto it = impulse_sets_.find(rate);
+        if (it != impulse_sets_.end()) return it->second;
+        VkDescriptorSet s = impulse_.allocate_set();
+        DescriptorWriter(device_, s)
+            .storage_image(0, rate)
+            .storage_image(1, pyramid_.mip_view(0))
+            .storage_image(2, pyramid_.mip_view(1))
+            .storage_image(3, pyramid_.mip_view(2))
+            .storage_image(4, pyramid_.mip_view(3))
+            .storage_image(5, field_.view())
+            .storage_buffer(6, impulses_)
+            .storage_buffer(7, amplitudes_)
+            .storage_buffer(8, cell_peaks_)
+            .commit();
+        return impulse_sets_.emplace(rate, s).first->second;
+    }
+
+    VkDescriptorSet apply_set(VkImageView in, VkImageView out) {
+        const auto key = std::make_pair(in, out);
+        auto it = apply_sets_.find(key);
+        if (it != apply_sets_.end()) return it->second;
+        VkDescriptorSet s = apply_.allocate_set();
+        DescriptorWriter(device_, s)
+            .storage_image(0, in)
+            .storage_image(1, out)
+            .storage_buffer(2, impulses_)
+            .storage_buffer(3, amplitudes_)
+            .storage_buffer(4, cell_peaks_)
+            .commit();
+        return apply_sets_.emplace(key, s).first->second;
+    }
+
+    VkDevice device_ = VK_NULL_HANDLE;
+    post::NoiseParams params_;
+    NoisePush push_{};
+    Image pyramid_, field_;
+    Buffer impulses_, amplitudes_, cell_peaks_;
+    ComputePipeline luma_, reduce_, gradient_, impulse_, apply_;
+    std::vector<VkDescriptorSet> reduce_sets_;
+    VkDescriptorSet gradient_set_ = VK_NULL_HANDLE;
+    std::map<VkImageView, VkDescriptorSet> luma_sets_;
+    std::map<VkImageView, VkDescriptorSet> impulse_sets_;
+    std::map<std::pair<VkImageView, VkImageView>, VkDescriptorSet> apply_sets_;
+};
+
+}  // namespace
+
+std::unique_ptr<PostPass> make_noise_pass() { return std::make_unique<NoisePass>(); }
+
+}  // namespace fovea::vk
