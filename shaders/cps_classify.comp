@@ -1,27 +1,140 @@
 #version 450
-// Coarse pixel shading, pass 1: the rate of every tile from the acuity model (one thread per
-// tile), the tile appended to its class list, and the indirect dispatch sizes grown so the shade
-// pass launches exactly one thread per coarse pixel of the listed tiles.
+// Coarse pixel shading, pass 1: one workgroup per tile (acuity.tile_size, 16x16 by default)
+// decides, before anything is shaded, what the tile needs this frame, appends it to one
+// compacted list and grows that list's indirect dispatch so the later passes launch exactly one
+// thread per coarse pixel of the listed tiles; a tile in no list costs no thread.
+//
+// The classes, tested in this order (the "skip" ones only with option cps.skip=1, the default):
+//  reused      still and converged: no motion in the tile (|motion + jitter| <= still_px, i.e.
+//              none beyond the sub-pixel jitter), camera position unchanged, consecutive frame
+//              without a cut, the acuity rate the tile was shaded at unchanged, its eccentricity
+//              moved less than ecc_deg since, and shaded in >= converge_frames such frames.
+//              Last frame's shading stays in the method's persistent colour image: no list.
+//              Every refresh_frames-th frame (staggered per tile) the tile is re-shaded anyway,
+//              so a host whose shading animates (fovea_frame.time) is never frozen for long.
+//  background  every pixel without geometry (position.w == 0) and the host defines
+//              fovea_background(): lists 4-6, the environment function at the tile's rate; the
+//              host shading function is not called.
+//  flat or     last frame's shading of the tile, done at its acuity rate, has a luminance
+//  saturated   contrast (max - min) / (max + min) below flat_contrast, or every pixel at or
+//              above `saturated` (beyond display white): the coarsest rate whatever the
+//              eccentricity (Stengel 2016's adaptation term). A tile shaded coarser than its
+//              acuity rate is not measured again next frame (it would always look flat).
+//  rate 1/2/4  the acuity model's rate for the tile (fovea_tile_rate): lists 0-2.
+// Independently, "no detail to extend" (background, flat or saturated) is written per tile to
+// cps_no_detail for passes that add detail (enhancement), and counted.
+// The rate S_t of every pixel is written here (reused tiles keep their stored rate).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
 #include "fovea_frame.glsl"
 #include "cps_common.glsl"
 layout(set = 1, binding = 3, r8ui) uniform writeonly uimage2D cps_rate_tiles;
+layout(set = 1, binding = 4, rgba16f) uniform readonly image2D cps_last_color;  // last frame's shading
+// Per tile, persistent across frames: x = stored shading (bits 0-1 rate class used, 2-3 acuity
+// class then, 4 valid, 5 shaded at its acuity rate, 6 background), y = consecutive still frames
+// at that rate, z = eccentricity (float bits) when shaded.
+layout(std430, set = 1, binding = 5) buffer CpsTileState { uvec4 s[]; } cps_state;
+layout(std430, set = 1, binding = 6) buffer CpsNoDetail { uint flag[]; } cps_no_detail;
+
+const uint kValid = 16u, kAtAcuity = 32u, kBackground = 64u;
+
+shared float s_geometry[64], s_motion[64], s_lmin[64], s_lmax[64];
+shared uint s_class;
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= cps_push.tiles_x * cps_push.tiles_y) return;
-    uint tx = i % cps_push.tiles_x;
-    uint ty = i / cps_push.tiles_x;
-    float ts = fovea_frame.acuity.tile_size;
-    vec2 lo = vec2(float(tx), float(ty)) * ts;
-    vec2 hi = min(lo + vec2(ts), fovea_frame.extent);
-    float r = fovea_tile_rate(fovea_frame.display, fovea_frame.acuity, lo, hi, fovea_frame.gaze_px);
-    uint cls = r >= 4.0 ? 2u : (r >= 2.0 ? 1u : 0u);
-    imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)), uvec4(uint(r)));
-    uint slot = atomicAdd(cps_args.count[cls], 1u);
-    cps_lists.tile[cls * cps_push.capacity + slot] = i;
-    uint side = uint(ts) >> cls;
-    atomicMax(cps_args.cmd[cls].x, ((slot + 1u) * side * side + 63u) / 64u);
-    atomicAdd(fovea_stats.tiles[cls], 1u);
+    uint tx = gl_WorkGroupID.x;  // dispatched as tiles_x x tiles_y workgroups
+    uint ty = gl_WorkGroupID.y;
+    uint tile = ty * cps_push.tiles_x + tx;
+    uint t = gl_LocalInvocationIndex;
+    int ts = int(fovea_frame.acuity.tile_size);
+    ivec2 lo = ivec2(int(tx), int(ty)) * ts;
+    ivec2 hi = min(lo + ivec2(ts), ivec2(fovea_frame.extent));
+    ivec2 size = hi - lo;
+    int n = size.x * size.y;
+    bool skip = (cps_push.flags & kCpsSkip) != 0u;
+
+    // Per-tile reductions: pixels with geometry, largest motion beyond the jitter, luminance
+    // range of last frame's shading.
+    float geometry = 0.0, motion = 0.0, lmin = 3.0e38, lmax = 0.0;
+    if (skip) {
+        for (int k = int(t); k < n; k += 64) {
+            ivec2 p = lo + ivec2(k % size.x, k / size.x);
+            if (imageLoad(fovea_g_position, p).w > 0.0) geometry += 1.0;
+            vec2 m = abs(imageLoad(fovea_g_motion, p).xy + fovea_frame.jitter_px);
+            motion = max(motion, max(m.x, m.y));
+            float l = max(dot(imageLoad(cps_last_color, p).rgb, vec3(0.2126, 0.7152, 0.0722)), 0.0);
+            lmin = min(lmin, l);
+            lmax = max(lmax, l);
+        }
+    }
+    s_geometry[t] = geometry;
+    s_motion[t] = motion;
+    s_lmin[t] = lmin;
+    s_lmax[t] = lmax;
+    barrier();
+    for (uint half_n = 32u; half_n > 0u; half_n >>= 1u) {
+        if (t < half_n) {
+            s_geometry[t] += s_geometry[t + half_n];
+            s_motion[t] = max(s_motion[t], s_motion[t + half_n]);
+            s_lmin[t] = min(s_lmin[t], s_lmin[t + half_n]);
+            s_lmax[t] = max(s_lmax[t], s_lmax[t + half_n]);
+        }
+        barrier();
+    }
+
+    if (t == 0u) {
+        float r = fovea_tile_rate(fovea_frame.display, fovea_frame.acuity, vec2(lo), vec2(hi),
+                                  fovea_frame.gaze_px);
+        uint acuity = r >= 4.0 ? 2u : (r >= 2.0 ? 1u : 0u);
+        float ecc = fovea_eccentricity_deg(fovea_frame.display, (vec2(lo) + vec2(hi)) * 0.5,
+                                           fovea_frame.gaze_px);
+        uvec4 st = cps_state.s[tile];
+        bool history = skip && (cps_push.flags & kCpsHistory) != 0u && (st.x & kValid) != 0u;
+        bool still = history && (cps_push.flags & kCpsCameraStill) != 0u &&
+                     s_motion[0] <= cps_push.still_px && ((st.x >> 2) & 3u) == acuity;
+        bool refresh = cps_push.refresh_frames > 0u &&
+                       (cps_push.frame + tile * 7919u) % cps_push.refresh_frames == 0u;
+        bool background = skip && s_geometry[0] == 0.0;
+        bool is_flat = false;
+        if (history && (st.x & kAtAcuity) != 0u) {
+            is_flat = s_lmax[0] - s_lmin[0] <= cps_push.flat_contrast * (s_lmax[0] + s_lmin[0]) ||
+                      s_lmin[0] >= cps_push.saturated;
+        }
+        cps_no_detail.flag[tile] = (background || is_flat) ? 1u : 0u;
+        if (background || is_flat) atomicAdd(fovea_stats.no_detail_tiles, 1u);
+
+        if (still && !refresh && st.y >= cps_push.converge_frames &&
+            abs(uintBitsToFloat(st.z) - ecc) < cps_push.ecc_deg) {
+            s_class = st.x & 3u;  // reused: no list, the stored shading stays
+            atomicAdd(fovea_stats.reused_tiles, 1u);
+            atomicAdd(fovea_stats.tiles[3], 1u);
+        } else {
+            uint cls = is_flat ? 2u : acuity;
+            bool env = background && (cps_push.flags & kCpsHostBackground) != 0u;
+            uint list = env ? kCpsBackgroundList + cls : cls;
+            uint slot = atomicAdd(cps_args.count[list], 1u);
+            cps_lists.tile[cps_list_base(list) * cps_push.capacity + slot] = tile;
+            uint side = uint(ts) >> cls;
+            atomicMax(cps_args.cmd[list].x, ((slot + 1u) * side * side + 63u) / 64u);
+            if (env) {
+                atomicAdd(fovea_stats.background_tiles, 1u);
+                atomicAdd(fovea_stats.tiles[3], 1u);
+            } else {
+                atomicAdd(fovea_stats.tiles[cls], 1u);
+            }
+            if (is_flat && acuity != 2u) atomicAdd(fovea_stats.flat_tiles, 1u);
+            uint count = still ? min(st.y + 1u, 255u) : 1u;
+            cps_state.s[tile] = uvec4(cls | (acuity << 2) | kValid |
+                                          (cls == acuity ? kAtAcuity : 0u) |
+                                          (background ? kBackground : 0u),
+                                      count, floatBitsToUint(ecc), 0u);
+            s_class = cls;
+        }
+        imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)),
+                   uvec4(s_class == acuity ? uint(r) : (1u << s_class)));
+    }
+    barrier();
+    float s = fovea_normalized_rate(float(1u << s_class));
+    for (int k = int(t); k < n; k += 64)
+        imageStore(fovea_out_rate, lo + ivec2(k % size.x, k / size.x), vec4(s));
 }

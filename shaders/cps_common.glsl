@@ -2,21 +2,42 @@
 #ifndef FOVEA_CPS_COMMON_GLSL
 #define FOVEA_CPS_COMMON_GLSL
 
-// Rate classes: 0 = 1x1, 1 = 2x2, 2 = 4x4; 3 = the edge list (pixels re-shaded at full rate).
-layout(std430, set = 1, binding = 0) buffer CpsLists { uint tile[]; } cps_lists;  // [class][capacity]
+// Work lists. 0 = 1x1, 1 = 2x2, 2 = 4x4 (host shading function); 3 = the edge list (pixels
+// re-shaded at full rate); 4, 5, 6 = background-only tiles at 1x1 / 2x2 / 4x4 (the host's
+// environment function fovea_background). Reused tiles are in no list: they cost no thread.
+const uint kCpsEdgeList = 3u;
+const uint kCpsBackgroundList = 4u;
+uint cps_list_rate_class(uint list) { return list & 3u; }
+uint cps_list_base(uint list) { return list < 3u ? list : list - 1u; }  // tile lists, edges skipped
+
+layout(std430, set = 1, binding = 0) buffer CpsLists { uint tile[]; } cps_lists;  // [6][capacity]
 layout(std430, set = 1, binding = 1) buffer CpsArgs {
-    uvec4 cmd[4];    // VkDispatchIndirectCommand x, y, z (+ pad) per class and the edge pass
-    uint count[4];   // tiles per class, edge pixels
+    uvec4 cmd[8];    // VkDispatchIndirectCommand x, y, z (+ pad) per list (7 unused)
+    uint count[8];   // tiles per list, edge pixels
     uint dropped;    // edge pixels beyond the list's capacity (kept at the coarse shade)
 } cps_args;
 layout(std430, set = 1, binding = 2) buffer CpsEdges { uint px[]; } cps_edges;  // x | y << 15 | cls << 30
 
+// Classification flags (CpsPush.flags), set on the CPU per frame.
+const uint kCpsSkip = 1u;             // option cps.skip: the skip classes below are enabled
+const uint kCpsHistory = 2u;          // consecutive frame index, no camera cut: last frame valid
+const uint kCpsCameraStill = 4u;      // FrameInputs::camera_pos equal to last frame's
+const uint kCpsHostBackground = 8u;   // the host GLSL defines fovea_background()
+
 layout(push_constant) uniform CpsPush {
     uint tiles_x;
     uint tiles_y;
-    uint capacity;       // tiles per class list
-    uint edge_capacity;  // entries of cps_edges
-    uint cls;            // rate class of this dispatch (shade pass)
+    uint capacity;         // tiles per list
+    uint edge_capacity;    // entries of cps_edges
+    uint list;             // list of this dispatch (shade passes)
+    uint flags;            // kCps* above
+    uint frame;            // frame index, low 32 bits (staggered refresh)
+    uint refresh_frames;   // re-shade a reused tile at least every this many frames (0: never)
+    uint converge_frames;  // shaded frames of a still tile at the same rate before reuse
+    float still_px;        // max |motion + jitter| in pixels of a still tile
+    float ecc_deg;         // max eccentricity change of a reused tile since its shading
+    float flat_contrast;   // (max - min) / (max + min) of luminance below this: flat
+    float saturated;       // luminance of every pixel at or above this: saturated
 } cps_push;
 
 #endif

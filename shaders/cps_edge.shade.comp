@@ -6,6 +6,7 @@ layout(local_size_x = 64) in;
 #include "fovea_frame.glsl"
 #include "cps_common.glsl"
 #include "fovea_host.glsl"
+layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D cps_color;  // persistent colour
 
 shared uint s_shaded;
 
@@ -13,14 +14,14 @@ void main() {
     if (gl_LocalInvocationIndex == 0u) s_shaded = 0u;
     barrier();
     uint i = gl_GlobalInvocationID.x;
-    if (i < min(cps_args.count[3], cps_push.edge_capacity)) {
+    if (i < min(cps_args.count[kCpsEdgeList], cps_push.edge_capacity)) {
         uint e = cps_edges.px[i];
         ivec2 p = ivec2(int(e & 0x7fffu), int((e >> 15) & 0x7fffu));
         float r = float(1u << (e >> 30));
         FoveaGSample g = fovea_load_gsample(p);
         FoveaFootprint fp = fovea_make_footprint(vec2(p) + vec2(0.5), r, g.distance,
                                                  fovea_normalized_rate(r));
-        imageStore(fovea_out_color, p, vec4(fovea_shade(g, fp), 1.0));
+        imageStore(cps_color, p, vec4(fovea_shade(g, fp), 1.0));
         atomicAdd(s_shaded, 1u);
     }
     barrier();

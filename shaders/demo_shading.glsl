@@ -149,3 +149,9 @@ vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) {
     col += albedo * demo_sky(n, 1.0) * 0.15;  // ambient from the environment
     return col;
 }
+
+// The environment alone, for background-only tiles (method cps skips fovea_shade there): the
+// same as fovea_shade's background branch, so skipping changes no pixel.
+vec3 fovea_background(FoveaGSample g, FoveaFootprint fp) {
+    return demo_sky(normalize(g.normal), fp.size_px * fovea_frame.camera_pos.w);
+}

@@ -35,7 +35,11 @@ layout(std430, set = 0, binding = 9) buffer FoveaStats {
     uint shaded_samples;  // every method adds the samples it shaded
     uint edge_samples;    // of which: extra samples at coarse-pixel discontinuities
     uint tiles[4];        // tiles per rate class (1x1, 2x2, 4x4, skipped)
-    uint reserved[10];
+    uint background_tiles;  // of tiles[3]: environment only (cps: fovea_background)
+    uint reused_tiles;      // of tiles[3]: last frame's shading kept (cps: still and converged)
+    uint flat_tiles;        // shaded coarser than acuity: flat or saturated last frame
+    uint no_detail_tiles;   // flagged "no detail to extend" (background, flat, saturated)
+    uint reserved[6];
 } fovea_stats;
 
 struct FoveaGSample {

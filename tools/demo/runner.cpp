@@ -90,6 +90,8 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
             r.ms.push_back(ms);
             gpu_ms[k].push_back(st.method_gpu_ms);
             r.shaded_fraction += st.shaded_fraction / o.frames;
+            r.skipped_tiles += static_cast<double>(st.skipped_tiles) / o.frames;
+            r.reused_tiles += static_cast<double>(st.reused_tiles) / o.frames;
             const Rgb8 img = tonemap(device.read_image(f.output()), w, h);
             if (k == 0) reference = img;
             const ErrorFigures e = compare(img, reference, o.display, st.gaze,
@@ -109,9 +111,11 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
                 else write_png(o.png_dir + "/" + o.png_prefix + "_" + std::to_string(i) +
                                    "_reference.png", img);
             }
-            char buf[160];
-            std::snprintf(buf, sizeof(buf), " %s %.0f ms %.1f%% fovea %.1f dB |", names[k].c_str(),
-                          ms, 100.0 * st.shaded_fraction, e.psnr_fovea_db);
+            char buf[224];
+            std::snprintf(buf, sizeof(buf),
+                          " %s %.0f ms %.1f%% fovea %.1f dB skipped %u reused %u |",
+                          names[k].c_str(), ms, 100.0 * st.shaded_fraction, e.psnr_fovea_db,
+                          st.skipped_tiles, st.reused_tiles);
             line += buf;
         }
         if (o.progress && i >= 0) {

@@ -346,6 +346,11 @@ FrameStats Foveator::stats() const {
     s.shaded_samples = g.shaded_samples;
     s.edge_samples = g.edge_samples;
     for (int i = 0; i < 4; ++i) s.tiles[i] = g.tiles[i];
+    s.skipped_tiles = g.tiles[3];
+    s.reused_tiles = g.reused_tiles;
+    s.background_tiles = g.background_tiles;
+    s.flat_tiles = g.flat_tiles;
+    s.no_detail_tiles = g.no_detail_tiles;
     s.shaded_fraction = static_cast<double>(g.shaded_samples) /
                         (static_cast<double>(m.config.extent.width) * m.config.extent.height);
     s.gaze = m.gaze;

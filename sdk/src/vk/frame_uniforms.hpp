@@ -36,7 +36,11 @@ struct FrameStatsGpu {
     uint32_t shaded_samples;
     uint32_t edge_samples;
     uint32_t tiles[4];
-    uint32_t reserved[10];
+    uint32_t background_tiles;
+    uint32_t reused_tiles;
+    uint32_t flat_tiles;
+    uint32_t no_detail_tiles;
+    uint32_t reserved[6];
 };
 static_assert(sizeof(FrameStatsGpu) == 64, "std430 layout");
 

@@ -19,6 +19,17 @@
 // pre-filter textures and lighting. It may read the uniform block fovea_frame (camera_pos, time,
 // host[16] set with set_host_params) and may declare its own functions and constants; it must be
 // deterministic (the foveal region must equal the full-rate reference) and write nothing.
+//
+// Optionally it also defines the environment alone,
+//     vec3 fovea_background(FoveaGSample g, FoveaFootprint fp);
+// returning what fovea_shade returns for a background sample (g.background: no geometry, g.normal
+// the view direction in the demo), at most cheaper. Method "cps" then shades tiles whose every
+// pixel is background with it instead of fovea_shade (these shades are not counted in
+// shaded_samples; FrameStats::background_tiles). Without it, background is shaded as before.
+// The module detects it by name in shading_glsl. Method "cps" also reuses last frame's shading
+// of still tiles (FrameStats::reused_tiles): fovea_shade should then depend on the G-buffer,
+// the footprint and fovea_frame only slowly through time (reused tiles are refreshed every
+// cps.skip.refresh frames); see sdk/src/vk/README.md "Skipping what the scene doesn't need".
 #pragma once
 
 #include <array>
@@ -75,6 +86,12 @@ struct FrameStats {
     uint64_t shaded_samples = 0;   // host shading function invocations
     uint64_t edge_samples = 0;     // of which re-shaded at coarse-pixel discontinuities
     std::array<uint32_t, 4> tiles{};  // tiles at rate 1, 2, 4, skipped
+    // Tile classification (method "cps", option cps.skip; shaders/cps_classify.comp):
+    uint32_t skipped_tiles = 0;     // tiles[3]: no host shading call (reused + background)
+    uint32_t reused_tiles = 0;      // of which last frame's shading kept (still, converged)
+    uint32_t background_tiles = 0;  // of which environment only (fovea_background)
+    uint32_t flat_tiles = 0;        // shaded coarser than their acuity rate: flat or saturated
+    uint32_t no_detail_tiles = 0;   // no detail to extend (background, flat or saturated)
     double shaded_fraction = 0.0;  // shaded_samples / pixels
     double method_gpu_ms = 0.0;    // GPU time of the method's passes (timestamps; 0 if none)
     double post_gpu_ms = 0.0;      // GPU time of the post chain

@@ -1,27 +1,47 @@
 // Method "cps": coarse pixel shading (Vaidyanathan 2014 as used by Patney 2016) in compute.
-// Pass 1 classifies tiles into 1x1 / 2x2 / 4x4 rate lists from the acuity model; pass 2 shades
-// one sample per coarse pixel (three indirect dispatches sized by the lists, so the work is
-// proportional to the samples shaded); pass 3 re-shades the pixels at surface discontinuities
-// inside coarse pixels (indirect, sized by the edge list). shaders/cps_*.
-#include <cassert>
-#include <cstring>
+// Pass 1 classifies every tile before shading (shaders/cps_classify.comp): reused from last
+// frame (still and converged), background only (the host's environment function), flat or
+// saturated (coarsest rate), else the acuity model's 1x1 / 2x2 / 4x4 rate; each tile goes to one
+// compacted list. Pass 2 shades one sample per coarse pixel of the listed tiles (indirect
+// dispatches sized by the lists, so the work is proportional to the samples shaded); pass 3
+// re-shades the pixels at surface discontinuities inside coarse pixels (indirect, sized by the
+// edge list). The shading lands in a colour image the method owns, so a reused tile costs no
+// thread even when another method wrote the frame output in between; it is copied to the output.
+// Options (FoveatorConfig::options), see shaders/cps_classify.comp for the classes:
+//   cps.skip=1               0 disables reuse, background and flat classes (plain CPS)
+//   cps.skip.still_px=0.01   max |motion + jitter| of a still tile, pixels
+//   cps.skip.converge=2      still frames shaded at the same rate before a tile is reused
+//   cps.skip.refresh=30      a reused tile is re-shaded every this many frames (0: never)
+//   cps.skip.ecc_deg=5       max eccentricity change of a reused tile since it was shaded
+//   cps.skip.flat=0.02       luminance contrast (max - min) / (max + min) of a flat tile
+//   cps.skip.saturated=6     luminance at or above which every pixel of a tile is saturated
+#include <algorithm>
+#include <array>
+#include <string>
 
 #include "../method.hpp"
 
 namespace fovea::vk {
 namespace {
 
+// Matches CpsPush in shaders/cps_common.glsl.
 struct CpsPush {
-    uint32_t tiles_x, tiles_y, capacity, edge_capacity, cls;
+    uint32_t tiles_x, tiles_y, capacity, edge_capacity, list;
+    uint32_t flags, frame, refresh_frames, converge_frames;
+    float still_px, ecc_deg, flat_contrast, saturated;
 };
 
-// Matches CpsArgs in shaders/cps_common.glsl.
+// Matches CpsArgs in shaders/cps_common.glsl: lists 0-2 shade, 3 edges, 4-6 background.
 struct CpsArgs {
-    uint32_t cmd[4][4];
-    uint32_t count[4];
+    uint32_t cmd[8][4];
+    uint32_t count[8];
     uint32_t dropped;
     uint32_t pad[3];
 };
+constexpr uint32_t kEdgeList = 3, kBackgroundList = 4, kTileLists = 6;
+
+// CpsPush.flags, as in shaders/cps_common.glsl.
+constexpr uint32_t kSkip = 1, kHistory = 2, kCameraStill = 4, kHostBackground = 8;
 
 class CpsMethod final : public Method {
 public:
@@ -32,16 +52,31 @@ public:
         capacity_ = tiles_x_ * tiles_y_;
         const uint64_t pixels = uint64_t{ctx.extent.width} * ctx.extent.height;
         edge_capacity_ = static_cast<uint32_t>(pixels / 4 + 64);
-        lists_ = Buffer(ctx.device, uint64_t{capacity_} * 3 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                        false);
-        args_ = Buffer(ctx.device, sizeof(CpsArgs),
-                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+        skip_ = ctx.option_number("cps.skip", 1.0) != 0.0;
+        // GLSL cannot ask whether a function exists: the host's source names it or not.
+        host_background_ = ctx.config.shading_glsl.find("fovea_background") != std::string::npos;
+        push_.still_px = static_cast<float>(ctx.option_number("cps.skip.still_px", 0.01));
+        push_.converge_frames =
+            static_cast<uint32_t>(std::max(1.0, ctx.option_number("cps.skip.converge", 2.0)));
+        push_.refresh_frames =
+            static_cast<uint32_t>(std::max(0.0, ctx.option_number("cps.skip.refresh", 30.0)));
+        push_.ecc_deg = static_cast<float>(ctx.option_number("cps.skip.ecc_deg", 5.0));
+        push_.flat_contrast = static_cast<float>(ctx.option_number("cps.skip.flat", 0.02));
+        push_.saturated = static_cast<float>(ctx.option_number("cps.skip.saturated", 6.0));
+
+        const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+        lists_ = Buffer(ctx.device, uint64_t{capacity_} * kTileLists * 4, storage, false);
+        args_ = Buffer(ctx.device, sizeof(CpsArgs), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        false);
-        edges_ = Buffer(ctx.device, uint64_t{edge_capacity_} * 4,
-                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        edges_ = Buffer(ctx.device, uint64_t{edge_capacity_} * 4, storage, false);
+        state_ = Buffer(ctx.device, uint64_t{capacity_} * 16, storage, false);
+        no_detail_ = Buffer(ctx.device, uint64_t{capacity_} * 4, storage, false);
+        color_ = Image(ctx.device, ctx.extent, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+
         const Binding sb{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-        const Binding classify_bindings[] = {sb, sb, sb, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
-        const Binding shade_bindings[] = {sb, sb, sb};
+        const Binding si{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        const Binding classify_bindings[] = {sb, sb, sb, si, si, sb, sb};
+        const Binding shade_bindings[] = {sb, sb, sb, si};
         classify_ = ctx.builtin_pipeline("cps_classify.comp", classify_bindings, sizeof(CpsPush),
                                          true);
         auto shade = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings, sizeof(CpsPush));
@@ -50,6 +85,13 @@ public:
         auto edge = ctx.shading_pipeline("cps_edge.shade.comp", shade_bindings, sizeof(CpsPush));
         if (!edge) return edge.error();
         edge_ = std::move(*edge);
+        if (skip_ && host_background_) {
+            auto bg = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings,
+                                           sizeof(CpsPush), {"FOVEA_CPS_BACKGROUND"});
+            if (!bg) return bg.error();
+            background_ = std::move(*bg);
+        }
+
         VkDevice d = ctx.device.device();
         classify_set_ = classify_.allocate_set();
         DescriptorWriter(d, classify_set_)
@@ -57,19 +99,24 @@ public:
             .storage_buffer(1, args_)
             .storage_buffer(2, edges_)
             .storage_image(3, ctx.rate_tiles.view)
+            .storage_image(4, color_.view())
+            .storage_buffer(5, state_)
+            .storage_buffer(6, no_detail_)
             .commit();
-        shade_set_ = shade_.allocate_set();
-        DescriptorWriter(d, shade_set_)
-            .storage_buffer(0, lists_)
-            .storage_buffer(1, args_)
-            .storage_buffer(2, edges_)
-            .commit();
-        edge_set_ = edge_.allocate_set();
-        DescriptorWriter(d, edge_set_)
-            .storage_buffer(0, lists_)
-            .storage_buffer(1, args_)
-            .storage_buffer(2, edges_)
-            .commit();
+        auto shade_set = [&](ComputePipeline& p) {
+            VkDescriptorSet set = p.allocate_set();
+            DescriptorWriter(d, set)
+                .storage_buffer(0, lists_)
+                .storage_buffer(1, args_)
+                .storage_buffer(2, edges_)
+                .storage_image(3, color_.view())
+                .commit();
+            return set;
+        };
+        shade_set_ = shade_set(shade_);
+        edge_set_ = shade_set(edge_);
+        if (background_.get()) background_set_ = shade_set(background_);
+        extent_ = ctx.extent;
         return {};
     }
 
@@ -81,26 +128,62 @@ public:
         }
         vkCmdUpdateBuffer(f.cmd, args_.get(), 0, sizeof(init), &init);
         compute_barrier(f.cmd);
-        CpsPush push{tiles_x_, tiles_y_, capacity_, edge_capacity_, 0};
+        // Last frame's shading and tile state are valid only for the directly following frame.
+        const bool history = has_history_ && f.frame_index == last_frame_ + 1 &&
+                             !f.inputs.camera_cut;
+        CpsPush push = push_;
+        push.tiles_x = tiles_x_;
+        push.tiles_y = tiles_y_;
+        push.capacity = capacity_;
+        push.edge_capacity = edge_capacity_;
+        push.frame = static_cast<uint32_t>(f.frame_index);
+        push.flags = (skip_ ? kSkip : 0u) | (history ? kHistory : 0u) |
+                     (history && f.inputs.camera_pos == last_camera_ ? kCameraStill : 0u) |
+                     (background_.get() ? kHostBackground : 0u);
         classify_.bind(f.cmd, f.frame_set, classify_set_, &push, sizeof(push));
-        vkCmdDispatch(f.cmd, div_up(tiles_x_ * tiles_y_, 64), 1, 1);
+        vkCmdDispatch(f.cmd, tiles_x_, tiles_y_, 1);  // one workgroup per tile
         indirect_barrier(f.cmd);
-        for (uint32_t cls = 0; cls < 3; ++cls) {
-            push.cls = cls;
+        for (uint32_t list = 0; list < 3; ++list) {
+            push.list = list;
             shade_.bind(f.cmd, f.frame_set, shade_set_, &push, sizeof(push));
-            vkCmdDispatchIndirect(f.cmd, args_.get(), cls * 16);
+            vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
+        }
+        if (background_.get()) {
+            for (uint32_t list = kBackgroundList; list < kBackgroundList + 3; ++list) {
+                push.list = list;
+                background_.bind(f.cmd, f.frame_set, background_set_, &push, sizeof(push));
+                vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
+            }
         }
         indirect_barrier(f.cmd);
+        push.list = kEdgeList;
         edge_.bind(f.cmd, f.frame_set, edge_set_, &push, sizeof(push));
-        vkCmdDispatchIndirect(f.cmd, args_.get(), 3 * 16);
+        vkCmdDispatchIndirect(f.cmd, args_.get(), kEdgeList * 16);
+        compute_barrier(f.cmd);
+        VkImageCopy region{};
+        region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.dstSubresource = region.srcSubresource;
+        region.extent = {extent_.width, extent_.height, 1};
+        vkCmdCopyImage(f.cmd, color_.get(), VK_IMAGE_LAYOUT_GENERAL, f.color.image,
+                       VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        has_history_ = true;
+        last_frame_ = f.frame_index;
+        last_camera_ = f.inputs.camera_pos;
     }
 
 private:
     uint32_t tiles_x_ = 0, tiles_y_ = 0, capacity_ = 0, edge_capacity_ = 0;
-    Buffer lists_, args_, edges_;
-    ComputePipeline classify_, shade_, edge_;
+    VkExtent2D extent_{};
+    bool skip_ = true, host_background_ = false;
+    CpsPush push_{};
+    bool has_history_ = false;
+    uint64_t last_frame_ = 0;
+    std::array<float, 3> last_camera_{};
+    Buffer lists_, args_, edges_, state_, no_detail_;
+    Image color_;
+    ComputePipeline classify_, shade_, edge_, background_;
     VkDescriptorSet classify_set_ = VK_NULL_HANDLE, shade_set_ = VK_NULL_HANDLE,
-                    edge_set_ = VK_NULL_HANDLE;
+                    edge_set_ = VK_NULL_HANDLE, background_set_ = VK_NULL_HANDLE;
 };
 
 }  // namespace

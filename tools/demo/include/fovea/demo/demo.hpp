@@ -111,6 +111,8 @@ struct MethodResult {
     double ms_median = 0.0;
     double shaded_fraction = 0.0; // mean over frames
     double method_gpu_ms = 0.0;   // median GPU time of the method's passes
+    double skipped_tiles = 0.0;   // mean per frame: tiles without a host shading call (cps)
+    double reused_tiles = 0.0;    // mean per frame: of which last frame's shading kept (cps)
     ErrorFigures error_figures;   // mean over frames (PSNR averaged in dB)
 };
 Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions& options);
