@@ -28,6 +28,49 @@ double LandingPredictor::profile(double tau, double amplitude_deg) const {
     return cdf_[i] + (u - i) * (cdf_[i + 1] - cdf_[i]);
 }
 
+double LandingPredictor::amplitude_from_profile(double t, double d) const {
+    const double top = p_.max_amplitude_deg;
+    const double lo_amp = std::max(d, 0.05);
+    if (lo_amp >= top) return top;
+    // Covered distance of a main-sequence saccade of amplitude A after t: A * s(t / D(A)).
+    // It rises with A while the saccade would already be near its end, then falls again (a
+    // large saccade has barely started). The smallest A reaching d is the answer; if none
+    // reaches it the eye moves faster than the main sequence allows, take the closest.
+    auto covered = [&](double a) { return a * profile(t / duration_s(a), a); };
+    constexpr int kGrid = 48;
+    const double step = std::log(top / lo_amp) / kGrid;
+    double prev = std::log(lo_amp), best = prev, best_cov = -1.0;
+    for (int g = 0; g <= kGrid; ++g) {
+        const double la = std::log(lo_amp) + step * g;
+        const double c = covered(std::exp(la));
+        if (c >= d) {
+            if (g == 0) return lo_amp;
+            double lo = prev, hi = la;
+            for (int it = 0; it < 24; ++it) {
+                const double mid = 0.5 * (lo + hi);
+                (covered(std::exp(mid)) >= d ? hi : lo) = mid;
+            }
+            return std::exp(0.5 * (lo + hi));
+        }
+        if (c > best_cov) {
+            best_cov = c;
+            best = la;
+        }
+        prev = la;
+    }
+    return std::exp(best);
+}
+
+double LandingPredictor::amplitude_from_deceleration(double t, double d, double v) const {
+    // A = d + c v (D(A) - t) with D(A) = s A + i  =>  A (1 - c v s) = d + c v (i - t).
+    const double cv = p_.deceleration_factor * std::max(0.0, v);
+    const double den = 1.0 - cv * p_.duration_slope_ms * 1e-3;
+    double a = p_.max_amplitude_deg;
+    // A speed near the main sequence's asymptote says "large", not how large.
+    if (den > 0.15) a = (d + cv * (p_.duration_intercept_ms * 1e-3 - t)) / den;
+    return std::clamp(a, std::max(d, 1e-3), std::max(d, p_.max_amplitude_deg));
+}
+
 LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
                                           std::span<const double> x_deg,
                                           std::span<const double> y_deg) const {
@@ -40,81 +83,46 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     const double t_now = t_s[n - 1];
     if (!std::isfinite(d_now) || !std::isfinite(t_now) || t_now <= 0.0) return est;
     if (d_now < 1e-6) return est;
+    // Direction: onset to the newest sample (on the labels, fits over the whole trajectory are
+    // pulled off by the curved start of oblique saccades).
     const double ux = dx / d_now, uy = dy / d_now;
 
-    // Pick up to max_fit_points samples, always including the newest.
-    const int m = std::max(2, p_.max_fit_points);
-    double ts[64], ds[64];
-    int k = 0;
-    const size_t step =
-        std::max<size_t>(1, (n - 1 + static_cast<size_t>(m) - 1) / static_cast<size_t>(m));
-    for (size_t i = (n - 1) % step; i < n && k < 64; i += step) {
-        ts[k] = t_s[i];
-        ds[k] = (x_deg[i] - x0) * ux + (y_deg[i] - y0) * uy;
-        ++k;
+    // Current displacement and speed along that direction: a line through the newest samples
+    // (one noisy sample would set both).
+    const size_t m = std::min(n, static_cast<size_t>(std::max(2, p_.speed_fit_samples)));
+    double tm = 0, pm = 0;
+    for (size_t i = n - m; i < n; ++i) {
+        tm += t_s[i];
+        pm += (x_deg[i] - x0) * ux + (y_deg[i] - y0) * uy;
     }
-    auto cost = [&](double a) {
-        const double dur = duration_s(a);
-        double c = 0.0;
-        for (int i = 0; i < k; ++i) {
-            // Later samples carry more information about the amplitude.
-            const double w = 0.25 + ts[i] / t_now;
-            const double r = ds[i] - a * profile(ts[i] / dur, a);
-            c += w * r * r;
-        }
-        return c;
-    };
-    // Golden-section search on log amplitude: the displacement so far bounds A from below.
-    // The cost is not unimodal early in flight (a small saccade near its end vs a large one
-    // starting): a coarse log grid first, then golden section around the best cell.
-    double glo = std::log(std::max(0.1, d_now)), ghi = std::log(80.0);
-    if (glo >= ghi) glo = ghi - 1.0;
-    constexpr int kGrid = 24;
-    int best = 0;
-    double best_cost = 1e300;
-    for (int g = 0; g <= kGrid; ++g) {
-        const double c = cost(std::exp(glo + (ghi - glo) * g / kGrid));
-        if (c < best_cost) {
-            best_cost = c;
-            best = g;
-        }
+    tm /= static_cast<double>(m);
+    pm /= static_cast<double>(m);
+    double stt = 0, stp = 0;
+    for (size_t i = n - m; i < n; ++i) {
+        const double p = (x_deg[i] - x0) * ux + (y_deg[i] - y0) * uy;
+        stt += (t_s[i] - tm) * (t_s[i] - tm);
+        stp += (t_s[i] - tm) * (p - pm);
     }
-    const double cell = (ghi - glo) / kGrid;
-    double lo = std::max(glo, glo + cell * (best - 1)), hi = std::min(ghi, glo + cell * (best + 1));
-    constexpr double kG = 0.6180339887498949;
-    double a = hi - kG * (hi - lo), b = lo + kG * (hi - lo);
-    double fa = cost(std::exp(a)), fb = cost(std::exp(b));
-    for (int it = 0; it < 20; ++it) {
-        if (fa < fb) {
-            hi = b;
-            b = a;
-            fb = fa;
-            a = hi - kG * (hi - lo);
-            fa = cost(std::exp(a));
-        } else {
-            lo = a;
-            a = b;
-            fa = fb;
-            b = lo + kG * (hi - lo);
-            fb = cost(std::exp(b));
-        }
-    }
-    const double amp = std::exp(0.5 * (lo + hi));
+    if (!(stt > 0) || !std::isfinite(stp)) return est;
+    const double v = std::max(0.0, stp / stt);
+    const double d = std::max(1e-3, pm + (stp / stt) * (t_now - tm));
+
+    const double a_profile = amplitude_from_profile(t_now, d);
+    const double a_decel = amplitude_from_deceleration(t_now, d, v);
+    const double amp = std::sqrt(a_profile * a_decel);
+    if (!std::isfinite(amp)) return est;
     const double dur = duration_s(amp);
-    const double residual = std::sqrt(cost(amp) / std::max(1, k));
-    est.valid = std::isfinite(amp);
+    est.valid = true;
     est.amplitude_deg = amp;
     est.duration_s = dur;
     est.fraction = std::min(1.0, t_now / dur);
     est.x_deg = x0 + ux * amp;
     est.y_deg = y0 + uy * amp;
-    // Amplitude SD from the cost's curvature (flat early in the flight, sharp late), for a
-    // measurement noise of at least 0.05 deg, plus 5 % model error (main-sequence spread).
-    const double h = std::max(0.01, 0.02 * amp);
-    const double curv = (cost(amp + h) - 2.0 * cost(amp) + cost(std::max(1e-3, amp - h))) / (h * h);
-    const double noise = std::max(0.05, residual);
-    const double sd_fit = curv > 0 ? std::sqrt(2.0 * noise * noise / curv) : amp;
-    est.uncertainty_deg = std::hypot(std::min(sd_fit, 2.0 * amp), 0.05 * amp, residual);
+    // Relative amplitude error: the estimates' disagreement, and the main-sequence spread over
+    // the part not yet seen; both vanish as the saccade completes.
+    const double disagreement = 0.5 * std::fabs(std::log(a_profile / a_decel));
+    const double unseen = p_.model_spread * (1.0 - est.fraction);
+    est.uncertainty_deg = std::hypot(amp * std::hypot(disagreement, unseen), p_.position_noise_deg);
     return est;
 }
 

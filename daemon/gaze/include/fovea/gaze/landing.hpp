@@ -1,7 +1,13 @@
-// Saccade landing prediction while the saccade is in flight (Arabadzhiyska et al. 2017): the
-// displacement observed since onset is fitted to a main-sequence saccade of unknown amplitude A,
-// whose duration D(A) and velocity profile follow from A. The fit's amplitude, along the current
-// direction, is the landing point; its uncertainty shrinks as more of the saccade is seen.
+// Saccade landing prediction while the saccade is in flight (after Arabadzhiyska et al. 2017):
+// two estimates of the amplitude A, each tied to the main sequence (duration D(A)), combined:
+//   1. profile: the displacement d observed after t is A * s(t / D(A)) for a minimum-jerk
+//      position profile s; solved for the smallest A that explains d (the first root);
+//   2. remaining distance: the eye still has D(A) - t to go and decelerates roughly linearly
+//      from its current speed v to zero, so A = d + c * v * (D(A) - t), c = 1/2, linear in A.
+// The profile estimate runs low when the real profile peaks early, the deceleration estimate
+// runs high while the eye is still accelerating; their errors are nearly independent, so the
+// prediction is their geometric mean, along the direction from onset to the newest sample.
+// Measured on the lund2013 labels (../shared/data): README.md, "Landing prediction".
 #pragma once
 
 #include <array>
@@ -15,12 +21,19 @@ struct LandingParams {
     double peak_c_deg = 4.25;
     double duration_slope_ms = 2.6;  // D = slope * A + intercept
     double duration_intercept_ms = 17.0;
-    int max_fit_points = 12;  // observed samples used by the fit (evenly spaced)
-    // Velocity profile ~ Beta(a, b) in normalised time; (3, 3) is minimum jerk. Early-peaked
-    // shapes closer to the labelled data's mean profile (~(1.5, 2)) make the amplitude fit
-    // unstable early in flight (README.md, "Landing prediction"), so the default stays (3, 3).
+    // Position profile of estimate 1 ~ Beta(a, b) in normalised time; (3, 3) is minimum jerk.
+    // Early-peaked shapes closer to the labels' mean profile (~(1.5, 2)) make the first root
+    // ill-conditioned: their slow start fits any large amplitude as well as the right one.
     double profile_a = 3.0;
     double profile_b = 3.0;
+    // Estimate 2: remaining distance = factor x speed x remaining time (1/2: linear deceleration).
+    double deceleration_factor = 0.5;
+    int speed_fit_samples = 4;  // current speed and position: line through the newest samples
+    double max_amplitude_deg = 60.0;
+    // Uncertainty: main-sequence spread of the labels (log duration IQR ~ +-17 %) scaled by the
+    // unseen part of the saccade, plus the two estimates' disagreement and position noise.
+    double model_spread = 0.35;
+    double position_noise_deg = 0.1;
 };
 
 struct LandingEstimate {
@@ -43,6 +56,11 @@ public:
     double duration_s(double amplitude_deg) const;
     // Normalised position profile s(tau) in [0,1] of a saccade of amplitude A at tau = t/D.
     double profile(double tau, double amplitude_deg) const;
+
+    // The two amplitude estimates (exposed for tests and tools).
+    double amplitude_from_profile(double elapsed_s, double displacement_deg) const;
+    double amplitude_from_deceleration(double elapsed_s, double displacement_deg,
+                                       double speed_dps) const;
 
 private:
     static constexpr int kSteps = 256;
