@@ -5,31 +5,34 @@
 // thread per coarse pixel of the listed tiles; a tile in no list costs no thread.
 //
 // The classes, tested in this order (the "skip" ones only with option cps.skip=1, the default):
-//  reused      still and converged: no motion in the tile (|motion + jitter| <= still_px, i.e.
-//              none beyond the sub-pixel jitter), camera position unchanged, consecutive frame
-//              without a cut, the acuity rate the tile was shaded at unchanged, its eccentricity
-//              moved less than ecc_deg since, and shaded in >= converge_frames such frames.
+//  reused      still and converged: no motion in the tile (|motion + jitter| or |motion| <=
+//              still_px: none beyond the sub-pixel jitter), camera position unchanged,
+//              consecutive frame without a cut, the acuity rate the tile was shaded at
+//              unchanged, its eccentricity moved less than ecc_deg since, and shaded in
+//              >= converge_frames such frames.
 //              Last frame's shading stays in the method's persistent colour image: no list.
 //              Every refresh_frames-th frame (staggered per tile) the tile is re-shaded anyway,
 //              so a host whose shading animates (fovea_frame.time) is never frozen for long.
 //  background  every pixel without geometry (position.w == 0) and the host defines
 //              fovea_background(): lists 4-6, the environment function at the tile's rate; the
 //              host shading function is not called.
-//  flat or     last frame's shading of the tile, done at its acuity rate, has a luminance
-//  saturated   contrast (max - min) / (max + min) below flat_contrast, or every pixel at or
-//              above `saturated` (beyond display white): the coarsest rate whatever the
-//              eccentricity (Stengel 2016's adaptation term). A tile shaded coarser than its
-//              acuity rate is not measured again next frame (it would always look flat).
+//  flat or     last frame's shading of the tile, done at its acuity rate, has a luminance range
+//  saturated   (cps_luminance, left by its shade samples) with contrast (max - min) / (max + min)
+//              below flat_contrast, or every sample at or above `saturated` (beyond display
+//              white): the coarsest rate whatever the eccentricity (Stengel 2016's adaptation
+//              term). A tile shaded coarser than its acuity rate is not measured again next
+//              frame (it would always look flat).
 //  rate 1/2/4  the acuity model's rate for the tile (fovea_tile_rate): lists 0-2.
 // Independently, "no detail to extend" (background, flat or saturated) is written per tile to
 // cps_no_detail for passes that add detail (enhancement), and counted.
-// The rate S_t of every pixel is written here (reused tiles keep their stored rate).
+// The rate S_t of every shaded pixel is written here to the method's persistent S_t image
+// (reused tiles keep theirs); both persistent images are copied to the frame outputs at the end.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
 #include "fovea_frame.glsl"
 #include "cps_common.glsl"
 layout(set = 1, binding = 3, r8ui) uniform writeonly uimage2D cps_rate_tiles;
-layout(set = 1, binding = 4, rgba16f) uniform readonly image2D cps_last_color;  // last frame's shading
+layout(set = 1, binding = 7, r16f) uniform writeonly image2D cps_rate;  // S_t, persistent
 // Per tile, persistent across frames: x = stored shading (bits 0-1 rate class used, 2-3 acuity
 // class then, 4 valid, 5 shaded at its acuity rate, 6 background), y = consecutive still frames
 // at that rate, z = eccentricity (float bits) when shaded.
@@ -37,8 +40,9 @@ layout(std430, set = 1, binding = 5) buffer CpsTileState { uvec4 s[]; } cps_stat
 layout(std430, set = 1, binding = 6) buffer CpsNoDetail { uint flag[]; } cps_no_detail;
 
 const uint kValid = 16u, kAtAcuity = 32u, kBackground = 64u;
+const uint kCpsReused = 3u;  // s_class of a reused tile
 
-shared float s_geometry[64], s_motion[64], s_lmin[64], s_lmax[64];
+shared float s_geometry[64], s_motion[64];
 shared uint s_class;
 
 void main() {
@@ -53,31 +57,32 @@ void main() {
     int n = size.x * size.y;
     bool skip = (cps_push.flags & kCpsSkip) != 0u;
 
-    // Per-tile reductions: pixels with geometry, largest motion beyond the jitter, luminance
-    // range of last frame's shading.
-    float geometry = 0.0, motion = 0.0, lmin = 3.0e38, lmax = 0.0;
-    if (skip) {
-        for (int k = int(t); k < n; k += 64) {
-            ivec2 p = lo + ivec2(k % size.x, k / size.x);
-            if (imageLoad(fovea_g_position, p).w > 0.0) geometry += 1.0;
-            vec2 m = abs(imageLoad(fovea_g_motion, p).xy + fovea_frame.jitter_px);
-            motion = max(motion, max(m.x, m.y));
-            float l = max(dot(imageLoad(cps_last_color, p).rgb, vec3(0.2126, 0.7152, 0.0722)), 0.0);
-            lmin = min(lmin, l);
-            lmax = max(lmax, l);
+    // Per-tile reductions: pixels with geometry, largest motion. A still pixel's motion is
+    // -jitter (the jittered sample against the previous unjittered view) or 0 (hosts that leave
+    // the jitter out, as the demo does for the sky): the smaller of the two counts.
+    // Each image is read only when its answer can change the class (image loads dominate this
+    // pass on a CPU device).
+    bool need_geometry = skip && (cps_push.flags & kCpsHostBackground) != 0u;
+    bool need_motion = skip && (cps_push.flags & (kCpsHistory | kCpsCameraStill)) ==
+                                   (kCpsHistory | kCpsCameraStill);
+    float geometry = need_geometry ? 0.0 : 1.0, motion = need_motion ? 0.0 : 3.0e38;
+    for (int k = int(t); k < n && (need_geometry || need_motion); k += 64) {
+        ivec2 p = lo + ivec2(k % size.x, k / size.x);
+        if (need_geometry && imageLoad(fovea_g_position, p).w > 0.0) geometry += 1.0;
+        if (need_motion) {
+            vec2 m = imageLoad(fovea_g_motion, p).xy;
+            vec2 mj = abs(m + fovea_frame.jitter_px);
+            m = abs(m);
+            motion = max(motion, min(max(m.x, m.y), max(mj.x, mj.y)));
         }
     }
     s_geometry[t] = geometry;
     s_motion[t] = motion;
-    s_lmin[t] = lmin;
-    s_lmax[t] = lmax;
     barrier();
     for (uint half_n = 32u; half_n > 0u; half_n >>= 1u) {
         if (t < half_n) {
             s_geometry[t] += s_geometry[t + half_n];
             s_motion[t] = max(s_motion[t], s_motion[t + half_n]);
-            s_lmin[t] = min(s_lmin[t], s_lmin[t + half_n]);
-            s_lmax[t] = max(s_lmax[t], s_lmax[t + half_n]);
         }
         barrier();
     }
@@ -94,18 +99,21 @@ void main() {
                      s_motion[0] <= cps_push.still_px && ((st.x >> 2) & 3u) == acuity;
         bool refresh = cps_push.refresh_frames > 0u &&
                        (cps_push.frame + tile * 7919u) % cps_push.refresh_frames == 0u;
-        bool background = skip && s_geometry[0] == 0.0;
+        bool background = s_geometry[0] == 0.0;  // only measured with fovea_background()
         bool is_flat = false;
         if (history && (st.x & kAtAcuity) != 0u) {
-            is_flat = s_lmax[0] - s_lmin[0] <= cps_push.flat_contrast * (s_lmax[0] + s_lmin[0]) ||
-                      s_lmin[0] >= cps_push.saturated;
+            float lmin = uintBitsToFloat(cps_luminance.range[tile].x);
+            float lmax = uintBitsToFloat(cps_luminance.range[tile].y);
+            is_flat = lmax - lmin <= cps_push.flat_contrast * (lmax + lmin) ||
+                      lmin >= cps_push.saturated;
         }
         cps_no_detail.flag[tile] = (background || is_flat) ? 1u : 0u;
         if (background || is_flat) atomicAdd(fovea_stats.no_detail_tiles, 1u);
 
-        if (still && !refresh && st.y >= cps_push.converge_frames &&
+        bool reuse = (cps_push.flags & kCpsReuse) != 0u;
+        if (reuse && still && !refresh && st.y >= cps_push.converge_frames &&
             abs(uintBitsToFloat(st.z) - ecc) < cps_push.ecc_deg) {
-            s_class = st.x & 3u;  // reused: no list, the stored shading stays
+            s_class = kCpsReused;  // no list: the stored shading and S_t stay
             atomicAdd(fovea_stats.reused_tiles, 1u);
             atomicAdd(fovea_stats.tiles[3], 1u);
         } else {
@@ -128,13 +136,16 @@ void main() {
                                           (cls == acuity ? kAtAcuity : 0u) |
                                           (background ? kBackground : 0u),
                                       count, floatBitsToUint(ecc), 0u);
+            cps_luminance.range[tile] = uvec2(0x7f800000u, 0u);  // +inf, 0: the passes fill it
             s_class = cls;
         }
+        uint used = s_class == kCpsReused ? st.x & 3u : s_class;
         imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)),
-                   uvec4(s_class == acuity ? uint(r) : (1u << s_class)));
+                   uvec4(used == acuity ? uint(r) : (1u << used)));
     }
     barrier();
+    if (s_class == kCpsReused) return;  // its S_t stays in cps_rate from when it was shaded
     float s = fovea_normalized_rate(float(1u << s_class));
     for (int k = int(t); k < n; k += 64)
-        imageStore(fovea_out_rate, lo + ivec2(k % size.x, k / size.x), vec4(s));
+        imageStore(cps_rate, lo + ivec2(k % size.x, k / size.x), vec4(s));
 }

@@ -17,12 +17,23 @@ layout(std430, set = 1, binding = 1) buffer CpsArgs {
     uint dropped;    // edge pixels beyond the list's capacity (kept at the coarse shade)
 } cps_args;
 layout(std430, set = 1, binding = 2) buffer CpsEdges { uint px[]; } cps_edges;  // x | y << 15 | cls << 30
+// Per tile, persistent: luminance range (min, max as float bits; luminance >= 0 so the bits
+// order like the values) of the tile's shading, accumulated by the shade and edge passes, reset
+// by the classify pass when the tile is shaded again; read next frame to find flat tiles.
+layout(std430, set = 1, binding = 4) buffer CpsLuminance { uvec2 range[]; } cps_luminance;
+
+void cps_add_luminance(uint tile, vec3 c) {
+    uint l = floatBitsToUint(max(dot(c, vec3(0.2126, 0.7152, 0.0722)), 0.0));
+    atomicMin(cps_luminance.range[tile].x, l);
+    atomicMax(cps_luminance.range[tile].y, l);
+}
 
 // Classification flags (CpsPush.flags), set on the CPU per frame.
 const uint kCpsSkip = 1u;             // option cps.skip: the skip classes below are enabled
 const uint kCpsHistory = 2u;          // consecutive frame index, no camera cut: last frame valid
 const uint kCpsCameraStill = 4u;      // FrameInputs::camera_pos equal to last frame's
 const uint kCpsHostBackground = 8u;   // the host GLSL defines fovea_background()
+const uint kCpsReuse = 16u;           // option cps.skip.reuse: still tiles may be reused
 
 layout(push_constant) uniform CpsPush {
     uint tiles_x;

@@ -21,8 +21,11 @@ void main() {
         FoveaGSample g = fovea_load_gsample(p);
         FoveaFootprint fp = fovea_make_footprint(vec2(p) + vec2(0.5), r, g.distance,
                                                  fovea_normalized_rate(r));
-        imageStore(cps_color, p, vec4(fovea_shade(g, fp), 1.0));
+        vec3 c = fovea_shade(g, fp);
+        imageStore(cps_color, p, vec4(c, 1.0));
         atomicAdd(s_shaded, 1u);
+        uint ts = uint(fovea_frame.acuity.tile_size);
+        cps_add_luminance(uint(p.y) / ts * cps_push.tiles_x + uint(p.x) / ts, c);
     }
     barrier();
     if (gl_LocalInvocationIndex == 0u && s_shaded > 0u) {

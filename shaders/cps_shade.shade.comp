@@ -48,11 +48,13 @@ void main() {
                                                      g.distance, s);
 #ifdef FOVEA_CPS_BACKGROUND
             vec4 c = vec4(fovea_background(g, fp), 1.0);
+            cps_add_luminance(tile, c.rgb);
             for (int y = o.y; y < hi.y; ++y)
                 for (int x = o.x; x < hi.x; ++x) imageStore(cps_color, ivec2(x, y), c);
 #else
             vec4 c = vec4(fovea_shade(g, fp), 1.0);
             atomicAdd(s_shaded, 1u);
+            cps_add_luminance(tile, c.rgb);
             for (int y = o.y; y < hi.y; ++y) {
                 for (int x = o.x; x < hi.x; ++x) {
                     ivec2 p = ivec2(x, y);

@@ -9,6 +9,7 @@
 // thread even when another method wrote the frame output in between; it is copied to the output.
 // Options (FoveatorConfig::options), see shaders/cps_classify.comp for the classes:
 //   cps.skip=1               0 disables reuse, background and flat classes (plain CPS)
+//   cps.skip.reuse=1         0 disables only the reuse of still tiles
 //   cps.skip.still_px=0.01   max |motion + jitter| of a still tile, pixels
 //   cps.skip.converge=2      still frames shaded at the same rate before a tile is reused
 //   cps.skip.refresh=30      a reused tile is re-shaded every this many frames (0: never)
@@ -41,7 +42,7 @@ struct CpsArgs {
 constexpr uint32_t kEdgeList = 3, kBackgroundList = 4, kTileLists = 6;
 
 // CpsPush.flags, as in shaders/cps_common.glsl.
-constexpr uint32_t kSkip = 1, kHistory = 2, kCameraStill = 4, kHostBackground = 8;
+constexpr uint32_t kSkip = 1, kHistory = 2, kCameraStill = 4, kHostBackground = 8, kReuse = 16;
 
 class CpsMethod final : public Method {
 public:
@@ -53,6 +54,7 @@ public:
         const uint64_t pixels = uint64_t{ctx.extent.width} * ctx.extent.height;
         edge_capacity_ = static_cast<uint32_t>(pixels / 4 + 64);
         skip_ = ctx.option_number("cps.skip", 1.0) != 0.0;
+        reuse_ = ctx.option_number("cps.skip.reuse", 1.0) != 0.0;
         // GLSL cannot ask whether a function exists: the host's source names it or not.
         host_background_ = ctx.config.shading_glsl.find("fovea_background") != std::string::npos;
         push_.still_px = static_cast<float>(ctx.option_number("cps.skip.still_px", 0.01));
@@ -71,12 +73,14 @@ public:
         edges_ = Buffer(ctx.device, uint64_t{edge_capacity_} * 4, storage, false);
         state_ = Buffer(ctx.device, uint64_t{capacity_} * 16, storage, false);
         no_detail_ = Buffer(ctx.device, uint64_t{capacity_} * 4, storage, false);
+        luminance_ = Buffer(ctx.device, uint64_t{capacity_} * 8, storage, false);
         color_ = Image(ctx.device, ctx.extent, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+        rate_ = Image(ctx.device, ctx.extent, kRateFormat, VK_IMAGE_USAGE_STORAGE_BIT);
 
         const Binding sb{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
         const Binding si{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-        const Binding classify_bindings[] = {sb, sb, sb, si, si, sb, sb};
-        const Binding shade_bindings[] = {sb, sb, sb, si};
+        const Binding classify_bindings[] = {sb, sb, sb, si, sb, sb, sb, si};
+        const Binding shade_bindings[] = {sb, sb, sb, si, sb};
         classify_ = ctx.builtin_pipeline("cps_classify.comp", classify_bindings, sizeof(CpsPush),
                                          true);
         auto shade = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings, sizeof(CpsPush));
@@ -99,9 +103,10 @@ public:
             .storage_buffer(1, args_)
             .storage_buffer(2, edges_)
             .storage_image(3, ctx.rate_tiles.view)
-            .storage_image(4, color_.view())
+            .storage_buffer(4, luminance_)
             .storage_buffer(5, state_)
             .storage_buffer(6, no_detail_)
+            .storage_image(7, rate_.view())
             .commit();
         auto shade_set = [&](ComputePipeline& p) {
             VkDescriptorSet set = p.allocate_set();
@@ -110,6 +115,7 @@ public:
                 .storage_buffer(1, args_)
                 .storage_buffer(2, edges_)
                 .storage_image(3, color_.view())
+                .storage_buffer(4, luminance_)
                 .commit();
             return set;
         };
@@ -139,7 +145,7 @@ public:
         push.frame = static_cast<uint32_t>(f.frame_index);
         push.flags = (skip_ ? kSkip : 0u) | (history ? kHistory : 0u) |
                      (history && f.inputs.camera_pos == last_camera_ ? kCameraStill : 0u) |
-                     (background_.get() ? kHostBackground : 0u);
+                     (background_.get() ? kHostBackground : 0u) | (reuse_ ? kReuse : 0u);
         classify_.bind(f.cmd, f.frame_set, classify_set_, &push, sizeof(push));
         vkCmdDispatch(f.cmd, tiles_x_, tiles_y_, 1);  // one workgroup per tile
         indirect_barrier(f.cmd);
@@ -166,6 +172,8 @@ public:
         region.extent = {extent_.width, extent_.height, 1};
         vkCmdCopyImage(f.cmd, color_.get(), VK_IMAGE_LAYOUT_GENERAL, f.color.image,
                        VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        vkCmdCopyImage(f.cmd, rate_.get(), VK_IMAGE_LAYOUT_GENERAL, f.rate.image,
+                       VK_IMAGE_LAYOUT_GENERAL, 1, &region);
         has_history_ = true;
         last_frame_ = f.frame_index;
         last_camera_ = f.inputs.camera_pos;
@@ -174,13 +182,13 @@ public:
 private:
     uint32_t tiles_x_ = 0, tiles_y_ = 0, capacity_ = 0, edge_capacity_ = 0;
     VkExtent2D extent_{};
-    bool skip_ = true, host_background_ = false;
+    bool skip_ = true, reuse_ = true, host_background_ = false;
     CpsPush push_{};
     bool has_history_ = false;
     uint64_t last_frame_ = 0;
     std::array<float, 3> last_camera_{};
-    Buffer lists_, args_, edges_, state_, no_detail_;
-    Image color_;
+    Buffer lists_, args_, edges_, state_, no_detail_, luminance_;
+    Image color_, rate_;  // persistent shading and S_t: reused tiles keep theirs
     ComputePipeline classify_, shade_, edge_, background_;
     VkDescriptorSet classify_set_ = VK_NULL_HANDLE, shade_set_ = VK_NULL_HANDLE,
                     edge_set_ = VK_NULL_HANDLE, background_set_ = VK_NULL_HANDLE;
