@@ -42,8 +42,23 @@ layout(std430, set = 1, binding = 6) buffer CpsNoDetail { uint flag[]; } cps_no_
 const uint kValid = 16u, kAtAcuity = 32u, kBackground = 64u;
 const uint kCpsReused = 3u;  // s_class of a reused tile
 
-shared float s_geometry[64], s_motion[64];
+shared float s_sum[64];
 shared uint s_class;
+
+// Sum (max_op false) or maximum of every thread's v over the workgroup, in all threads.
+float workgroup_reduce(float v, bool max_op) {
+    uint t = gl_LocalInvocationIndex;
+    s_sum[t] = v;
+    barrier();
+    for (uint half_n = 32u; half_n > 0u; half_n >>= 1u) {
+        if (t < half_n)
+            s_sum[t] = max_op ? max(s_sum[t], s_sum[t + half_n]) : s_sum[t] + s_sum[t + half_n];
+        barrier();
+    }
+    float r = s_sum[0];
+    barrier();
+    return r;
+}
 
 void main() {
     uint tx = gl_WorkGroupID.x;  // dispatched as tiles_x x tiles_y workgroups
@@ -56,50 +71,55 @@ void main() {
     ivec2 size = hi - lo;
     int n = size.x * size.y;
     bool skip = (cps_push.flags & kCpsSkip) != 0u;
+    // Image loads dominate this pass on a CPU device: each image is read only when its answer
+    // can change the tile's class (motion: reuse possible; position: not reused and the host
+    // has fovea_background()).
 
-    // Per-tile reductions: pixels with geometry, largest motion. A still pixel's motion is
-    // -jitter (the jittered sample against the previous unjittered view) or 0 (hosts that leave
-    // the jitter out, as the demo does for the sky): the smaller of the two counts.
-    // Each image is read only when its answer can change the class (image loads dominate this
-    // pass on a CPU device).
-    bool need_geometry = skip && (cps_push.flags & kCpsHostBackground) != 0u;
-    bool need_motion = skip && (cps_push.flags & (kCpsHistory | kCpsCameraStill)) ==
-                                   (kCpsHistory | kCpsCameraStill);
-    float geometry = need_geometry ? 0.0 : 1.0, motion = need_motion ? 0.0 : 3.0e38;
-    for (int k = int(t); k < n && (need_geometry || need_motion); k += 64) {
-        ivec2 p = lo + ivec2(k % size.x, k / size.x);
-        if (need_geometry && imageLoad(fovea_g_position, p).w > 0.0) geometry += 1.0;
-        if (need_motion) {
-            vec2 m = imageLoad(fovea_g_motion, p).xy;
+    // 1. Largest motion. A still pixel's motion is -jitter (the jittered sample against the
+    // previous unjittered view) or 0 (hosts that leave the jitter out, as the demo does for the
+    // sky): the smaller of the two counts.
+    bool need_motion = skip && (cps_push.flags & kCpsReuse) != 0u &&
+                       (cps_push.flags & (kCpsHistory | kCpsCameraStill)) ==
+                           (kCpsHistory | kCpsCameraStill);
+    float motion = 3.0e38;
+    if (need_motion) {
+        motion = 0.0;
+        for (int k = int(t); k < n; k += 64) {
+            vec2 m = imageLoad(fovea_g_motion, lo + ivec2(k % size.x, k / size.x)).xy;
             vec2 mj = abs(m + fovea_frame.jitter_px);
             m = abs(m);
             motion = max(motion, min(max(m.x, m.y), max(mj.x, mj.y)));
         }
+        motion = workgroup_reduce(motion, true);
     }
-    s_geometry[t] = geometry;
-    s_motion[t] = motion;
-    barrier();
-    for (uint half_n = 32u; half_n > 0u; half_n >>= 1u) {
-        if (t < half_n) {
-            s_geometry[t] += s_geometry[t + half_n];
-            s_motion[t] = max(s_motion[t], s_motion[t + half_n]);
-        }
-        barrier();
+
+    // 2. Reuse, from the motion and the tile's stored state.
+    float r = fovea_tile_rate(fovea_frame.display, fovea_frame.acuity, vec2(lo), vec2(hi),
+                              fovea_frame.gaze_px);
+    uint acuity = r >= 4.0 ? 2u : (r >= 2.0 ? 1u : 0u);
+    float ecc = fovea_eccentricity_deg(fovea_frame.display, (vec2(lo) + vec2(hi)) * 0.5,
+                                       fovea_frame.gaze_px);
+    uvec4 st = cps_state.s[tile];
+    bool history = skip && (cps_push.flags & kCpsHistory) != 0u && (st.x & kValid) != 0u;
+    bool still = history && (cps_push.flags & kCpsCameraStill) != 0u &&
+                 motion <= cps_push.still_px && ((st.x >> 2) & 3u) == acuity;
+    bool refresh = cps_push.refresh_frames > 0u &&
+                   (cps_push.frame + tile * 7919u) % cps_push.refresh_frames == 0u;
+    bool reused = (cps_push.flags & kCpsReuse) != 0u && still && !refresh &&
+                  st.y >= cps_push.converge_frames &&
+                  abs(uintBitsToFloat(st.z) - ecc) < cps_push.ecc_deg;
+
+    // 3. Background: no pixel with geometry (a reused tile keeps what it was).
+    bool background = reused && (st.x & kBackground) != 0u;
+    if (!reused && skip && (cps_push.flags & kCpsHostBackground) != 0u) {
+        float geometry = 0.0;
+        for (int k = int(t); k < n; k += 64)
+            if (imageLoad(fovea_g_position, lo + ivec2(k % size.x, k / size.x)).w > 0.0)
+                geometry += 1.0;
+        background = workgroup_reduce(geometry, false) == 0.0;
     }
 
     if (t == 0u) {
-        float r = fovea_tile_rate(fovea_frame.display, fovea_frame.acuity, vec2(lo), vec2(hi),
-                                  fovea_frame.gaze_px);
-        uint acuity = r >= 4.0 ? 2u : (r >= 2.0 ? 1u : 0u);
-        float ecc = fovea_eccentricity_deg(fovea_frame.display, (vec2(lo) + vec2(hi)) * 0.5,
-                                           fovea_frame.gaze_px);
-        uvec4 st = cps_state.s[tile];
-        bool history = skip && (cps_push.flags & kCpsHistory) != 0u && (st.x & kValid) != 0u;
-        bool still = history && (cps_push.flags & kCpsCameraStill) != 0u &&
-                     s_motion[0] <= cps_push.still_px && ((st.x >> 2) & 3u) == acuity;
-        bool refresh = cps_push.refresh_frames > 0u &&
-                       (cps_push.frame + tile * 7919u) % cps_push.refresh_frames == 0u;
-        bool background = s_geometry[0] == 0.0;  // only measured with fovea_background()
         bool is_flat = false;
         if (history && (st.x & kAtAcuity) != 0u) {
             float lmin = uintBitsToFloat(cps_luminance.range[tile].x);
@@ -110,9 +130,7 @@ void main() {
         cps_no_detail.flag[tile] = (background || is_flat) ? 1u : 0u;
         if (background || is_flat) atomicAdd(fovea_stats.no_detail_tiles, 1u);
 
-        bool reuse = (cps_push.flags & kCpsReuse) != 0u;
-        if (reuse && still && !refresh && st.y >= cps_push.converge_frames &&
-            abs(uintBitsToFloat(st.z) - ecc) < cps_push.ecc_deg) {
+        if (reused) {
             s_class = kCpsReused;  // no list: the stored shading and S_t stay
             atomicAdd(fovea_stats.reused_tiles, 1u);
             atomicAdd(fovea_stats.tiles[3], 1u);
@@ -139,12 +157,12 @@ void main() {
             cps_luminance.range[tile] = uvec2(0x7f800000u, 0u);  // +inf, 0: the passes fill it
             s_class = cls;
         }
-        uint used = s_class == kCpsReused ? st.x & 3u : s_class;
+        uint used = reused ? st.x & 3u : s_class;
         imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)),
                    uvec4(used == acuity ? uint(r) : (1u << used)));
     }
+    if (reused) return;  // uniform per workgroup: its S_t stays in cps_rate from its shading
     barrier();
-    if (s_class == kCpsReused) return;  // its S_t stays in cps_rate from when it was shaded
     float s = fovea_normalized_rate(float(1u << s_class));
     for (int k = int(t); k < n; k += 64)
         imageStore(cps_rate, lo + ivec2(k % size.x, k / size.x), vec4(s));
