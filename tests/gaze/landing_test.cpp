@@ -8,8 +8,10 @@
 namespace fovea::gaze {
 namespace {
 
-// A saccade generated from the same main sequence the predictor assumes, with noise: the fit
-// must find its landing point from the first half.
+// A minimum-jerk saccade on the main sequence the predictor assumes, with noise: from its
+// first half the landing point must be within 10 % of the amplitude (the deceleration
+// estimate assumes a linear slow-down, not minimum jerk, so it is not exact here) and far
+// closer than the current position (half the amplitude away).
 TEST(LandingPredictor, PredictsMainSequenceSaccadeFromHalfItsDuration) {
     LandingPredictor p;
     for (double amp : {3.0, 6.0, 12.0, 20.0}) {
@@ -25,8 +27,9 @@ TEST(LandingPredictor, PredictsMainSequenceSaccadeFromHalfItsDuration) {
         }
         const LandingEstimate e = p.predict(t, x, y);
         ASSERT_TRUE(e.valid);
-        EXPECT_NEAR(e.x_deg, 2.0 + 0.8 * amp, 0.5) << amp;
-        EXPECT_NEAR(e.y_deg, -1.0 + 0.6 * amp, 0.5) << amp;
+        const double err = std::hypot(e.x_deg - (2.0 + 0.8 * amp), e.y_deg - (-1.0 + 0.6 * amp));
+        EXPECT_LT(err, std::max(0.3, 0.1 * amp)) << amp;
+        EXPECT_GT(e.uncertainty_deg, 0.0) << amp;
     }
 }
 

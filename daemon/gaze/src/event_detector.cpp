@@ -21,6 +21,7 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     : p_(params), mode_(mode) {
     rate_ = std::isfinite(nominal_rate_hz) && nominal_rate_hz > 0 ? nominal_rate_hz : 1000.0;
     k_ = samples_for(p_.velocity_half_window_s, rate_, 1);
+    kf_ = std::min(k_, samples_for(p_.offset_half_window_s, rate_, 1));
     w_ = samples_for(p_.smooth_half_window_s, rate_, 2);
     // Online: at least the velocity window and one sample for the local-minimum test; the
     // pursuit window is then truncated at the newest sample (decided with what is known).
@@ -31,6 +32,7 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
         lookahead_ = std::max(needed + w_, samples_for(2.0, rate_, 1));  // effectively unbounded
     }
     history_ = std::max(k_, w_) + 2;
+    stats_delay_ = samples_for(p_.blink_pre_s, rate_, 1) + 2;
     peak_ = p_.initial_peak_dps;
     onset_ = std::max(p_.min_onset_dps, stat_mean_ + p_.onset_sd * std::sqrt(stat_var_));
 }
@@ -111,6 +113,12 @@ void EventDetector::advance(bool flushing) {
     while (s2_next_ < vel_next_ && (s2_next_ + 1 < vel_next_ || flushing)) {
         stage_saccades(s2_next_++);
     }
+    if (mode_ == DetectorMode::kOnline) {
+        // Thresholds learn from stage-2 labels once they are past the reach of a blink's
+        // backward relabelling, not at emission: otherwise a longer look-ahead would delay
+        // what the thresholds know and the first seconds would run on the prior.
+        while (stats_next_ <= s2_next_ - 1 - stats_delay_) feed_stats(stats_next_++);
+    }
     const int64_t newest = s2_next_ - 1;
     while (s3_next_ < s2_next_ && (s3_next_ + w_ <= newest || flushing)) {
         stage_smooth(s3_next_++, newest);
@@ -148,13 +156,9 @@ bool EventDetector::pop(DetectorOutput& out) {
             out.event = Event::kUnknown;
             break;
     }
-    // Threshold statistics see final labels only, so blink edges never inflate them.
+    // Offline threshold estimation sees final labels only, so blink edges never inflate it.
     const bool inter = out.event == Event::kFixation || out.event == Event::kPursuit;
     if (velocity_sink_) velocity_sink_->push_back(inter ? e.v : kNaN);
-    if (mode_ == DetectorMode::kOnline && inter && std::isfinite(e.v) && e.v < peak_ &&
-        emit_next_ > base_) {
-        update_stats(e.v, std::min(e.t - at(emit_next_ - 1).t, 0.1));
-    }
     if ((out.event == Event::kSaccade || out.event == Event::kPso) && e.sacc >= 0) {
         if (const Record* r = record(e.sacc)) out.saccade = r->info;
         out.saccade_id = e.sacc;
@@ -167,19 +171,16 @@ bool EventDetector::pop(DetectorOutput& out) {
     return true;
 }
 
-void EventDetector::compute_velocity(int64_t c) {
-    const int64_t lo = std::max(base_, c - k_);
-    const int64_t hi = std::min(n_ - 1, c + k_);
-    Entry& e = at(c);
+namespace {
+
+// Least-squares slope (a Savitzky-Golay first derivative) of x and y over [lo, hi] around c.
+template <typename Entries>
+double window_slope_speed(const Entries& at, int64_t lo, int64_t hi, double t0) {
     double st = 0, sx = 0, sy = 0;
     int m = 0;
     for (int64_t i = lo; i <= hi; ++i) {
-        const Entry& q = at(i);
-        if (q.lost) {
-            e.v = kNaN;
-            return;
-        }
-        st += q.t - e.t;
+        const auto& q = at(i);
+        st += q.t - t0;
         sx += q.x;
         sy += q.y;
         ++m;
@@ -187,18 +188,44 @@ void EventDetector::compute_velocity(int64_t c) {
     const double tm = st / m, xm = sx / m, ym = sy / m;
     double stt = 0, stx = 0, sty = 0;
     for (int64_t i = lo; i <= hi; ++i) {
-        const Entry& q = at(i);
-        const double dt = q.t - e.t - tm;
+        const auto& q = at(i);
+        const double dt = q.t - t0 - tm;
         stt += dt * dt;
         stx += dt * (q.x - xm);
         sty += dt * (q.y - ym);
     }
-    e.v = stt > 0 ? std::hypot(stx / stt, sty / stt) : 0.0;
+    return stt > 0 ? std::hypot(stx / stt, sty / stt) : 0.0;
+}
+
+}  // namespace
+
+void EventDetector::compute_velocity(int64_t c) {
+    const int64_t lo = std::max(base_, c - k_);
+    const int64_t hi = std::min(n_ - 1, c + k_);
+    Entry& e = at(c);
+    for (int64_t i = lo; i <= hi; ++i) {
+        if (at(i).lost) {
+            e.v = e.vf = kNaN;
+            return;
+        }
+    }
+    auto get = [this](int64_t i) -> const Entry& { return at(i); };
+    e.v = window_slope_speed(get, lo, hi, e.t);
+    e.vf = kf_ == k_ ? e.v
+                     : window_slope_speed(get, std::max(base_, c - kf_),
+                                          std::min(n_ - 1, c + kf_), e.t);
 }
 
 EventDetector::Record* EventDetector::record(int64_t id) {
     if (records_.empty() || id < records_.front().id || id > records_.back().id) return nullptr;
     return &records_[static_cast<size_t>(id - records_.front().id)];
+}
+
+void EventDetector::feed_stats(int64_t i) {
+    if (i <= base_ || i >= n_) return;
+    const Entry& e = at(i);
+    if (!is_inter(e.label) || !std::isfinite(e.v) || !(e.v < peak_)) return;
+    update_stats(e.v, std::min(e.t - at(i - 1).t, 0.1));
 }
 
 void EventDetector::update_stats(double v, double dt) {
@@ -251,10 +278,27 @@ void EventDetector::start_saccade(int64_t c) {
         at(i).sacc = id;
     }
     sacc_blink_ = near_blink;
+    sacc_local_noise_ = local_noise_before(j);
     state_ = State::kSaccade;
     sacc_onset_ = j;
     sacc_id_ = id;
     sacc_peak_ = at(c).v;
+}
+
+double EventDetector::local_noise_before(int64_t onset) const {
+    double s = 0, ss = 0;
+    int m = 0;
+    const double t0 = at(onset).t;
+    for (int64_t i = onset - 1; i >= base_ && t0 - at(i).t <= p_.local_noise_window_s; --i) {
+        const Entry& q = at(i);
+        if (!is_inter(q.label) || !std::isfinite(q.v)) break;
+        s += q.v;
+        ss += q.v * q.v;
+        ++m;
+    }
+    if (m < 3) return 0.0;
+    const double mean = s / m;
+    return mean + p_.local_noise_sd * std::sqrt(std::max(0.0, ss / m - mean * mean));
 }
 
 void EventDetector::finish_record(int64_t id, int64_t last) {
@@ -331,6 +375,10 @@ void EventDetector::stage_saccades(int64_t c) {
     }
     const bool local_min = !(v_next < v);  // NaN next counts as a minimum
     const double pso_thr = p_.pso_onset_factor * onset_;
+    // PSO wobbles last 5-20 ms: they are judged on the sharper derivative, which the wide
+    // window would flatten below threshold.
+    const double pv = e.vf;
+    const bool pso_min = !((c + 1 < vel_next_ ? at(c + 1).vf : e.vf) < e.vf);
     switch (state_) {
         case State::kSaccade: {
             e.label = sacc_blink_ ? Label::kBlink : Label::kSaccade;
@@ -339,8 +387,14 @@ void EventDetector::stage_saccades(int64_t c) {
             const double duration = e.t - at(std::max(sacc_onset_, base_)).t;
             // The saccade ends at the first velocity minimum once the eye has decelerated: what
             // follows a minimum that is still fast is the post-saccadic wobble, not the saccade.
-            const double offset = std::max(onset_, p_.offset_peak_fraction * sacc_peak_);
-            if ((v < offset && local_min) || duration > p_.max_saccade_s) end_saccade(c);
+            const double offset = std::max(
+                {onset_, p_.offset_peak_fraction * sacc_peak_, sacc_local_noise_});
+            const double vf_next = c + 1 < vel_next_ ? at(c + 1).vf : e.vf;
+            const bool sharp_min = !(vf_next < e.vf);
+            const bool smooth_end = v < offset && local_min;
+            // Either derivative may find the minimum; both must be below the threshold.
+            const bool sharp_end = e.vf < offset && sharp_min && v < offset;
+            if (smooth_end || sharp_end || duration > p_.max_saccade_s) end_saccade(c);
             return;
         }
         case State::kPso: {
@@ -348,7 +402,7 @@ void EventDetector::stage_saccades(int64_t c) {
             e.sacc = sacc_id_;
             if (e.t - post_t0_ > 2.0 * p_.pso_window_s) {
                 state_ = State::kIdle;
-            } else if (v < pso_thr && local_min) {
+            } else if (pv < pso_thr && pso_min) {
                 // One wobble is over; another inside the window belongs to the same PSO.
                 state_ = State::kPostSaccade;
                 post_start_ = c + 1;
@@ -357,7 +411,7 @@ void EventDetector::stage_saccades(int64_t c) {
         }
         case State::kPostSaccade: {
             if (e.t - post_t0_ <= p_.pso_window_s) {
-                if (v > pso_thr) {
+                if (pv > pso_thr) {
                     for (int64_t i = std::max(post_start_, emit_next_); i <= c; ++i) {
                         at(i).label = Label::kPso;
                         invalidate(i);

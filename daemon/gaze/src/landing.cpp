@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fovea/gaze/sample.hpp"
+
 namespace fovea::gaze {
 
 LandingPredictor::LandingPredictor(const LandingParams& params) : p_(params) {
@@ -28,37 +30,57 @@ double LandingPredictor::profile(double tau, double amplitude_deg) const {
     return cdf_[i] + (u - i) * (cdf_[i + 1] - cdf_[i]);
 }
 
-double LandingPredictor::amplitude_from_profile(double t, double d) const {
+double LandingPredictor::speed_profile(double tau) const {
+    if (!(tau > 0.0) || tau >= 1.0) return 0.0;
+    const int i = std::min(kSteps - 1, static_cast<int>(tau * kSteps));
+    return (cdf_[i + 1] - cdf_[i]) * kSteps;
+}
+
+double LandingPredictor::amplitude_from_profile(double t, double d, double v) const {
     const double top = p_.max_amplitude_deg;
     const double lo_amp = std::max(d, 0.05);
     if (lo_amp >= top) return top;
     // Covered distance of a main-sequence saccade of amplitude A after t: A * s(t / D(A)).
     // It rises with A while the saccade would already be near its end, then falls again (a
-    // large saccade has barely started). The smallest A reaching d is the answer; if none
-    // reaches it the eye moves faster than the main sequence allows, take the closest.
+    // large saccade has barely started), so two amplitudes can explain d: a small saccade
+    // ending and a large one in mid-flight. The eye's current speed tells them apart. If no
+    // A reaches d the eye moves faster than the main sequence allows: take the closest.
     auto covered = [&](double a) { return a * profile(t / duration_s(a), a); };
+    auto speed_misfit = [&](double a) {
+        const double dur = duration_s(a);
+        return std::fabs(std::log((a / dur * speed_profile(t / dur) + 1.0) / (v + 1.0)));
+    };
     constexpr int kGrid = 48;
     const double step = std::log(top / lo_amp) / kGrid;
-    double prev = std::log(lo_amp), best = prev, best_cov = -1.0;
-    for (int g = 0; g <= kGrid; ++g) {
+    double best = std::log(lo_amp), best_cov = -1.0;
+    double root = kNaN, root_misfit = 1e300;
+    double prev = std::log(lo_amp), prev_c = covered(lo_amp);
+    if (prev_c >= d) return lo_amp;
+    for (int g = 1; g <= kGrid; ++g) {
         const double la = std::log(lo_amp) + step * g;
         const double c = covered(std::exp(la));
-        if (c >= d) {
-            if (g == 0) return lo_amp;
+        if ((c >= d) != (prev_c >= d)) {
             double lo = prev, hi = la;
+            const bool rising = c >= d;
             for (int it = 0; it < 24; ++it) {
                 const double mid = 0.5 * (lo + hi);
-                (covered(std::exp(mid)) >= d ? hi : lo) = mid;
+                ((covered(std::exp(mid)) >= d) == rising ? hi : lo) = mid;
             }
-            return std::exp(0.5 * (lo + hi));
+            const double a = std::exp(0.5 * (lo + hi));
+            const double misfit = speed_misfit(a);
+            if (misfit < root_misfit) {
+                root_misfit = misfit;
+                root = a;
+            }
         }
         if (c > best_cov) {
             best_cov = c;
             best = la;
         }
         prev = la;
+        prev_c = c;
     }
-    return std::exp(best);
+    return std::isfinite(root) ? root : std::exp(best);
 }
 
 double LandingPredictor::amplitude_from_deceleration(double t, double d, double v) const {
@@ -107,7 +129,7 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     const double v = std::max(0.0, stp / stt);
     const double d = std::max(1e-3, pm + (stp / stt) * (t_now - tm));
 
-    const double a_profile = amplitude_from_profile(t_now, d);
+    const double a_profile = amplitude_from_profile(t_now, d, v);
     const double a_decel = amplitude_from_deceleration(t_now, d, v);
     const double amp = std::sqrt(a_profile * a_decel);
     if (!std::isfinite(amp)) return est;
@@ -118,11 +140,11 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     est.fraction = std::min(1.0, t_now / dur);
     est.x_deg = x0 + ux * amp;
     est.y_deg = y0 + uy * amp;
-    // Relative amplitude error: the estimates' disagreement, and the main-sequence spread over
-    // the part not yet seen; both vanish as the saccade completes.
-    const double disagreement = 0.5 * std::fabs(std::log(a_profile / a_decel));
-    const double unseen = p_.model_spread * (1.0 - est.fraction);
-    est.uncertainty_deg = std::hypot(amp * std::hypot(disagreement, unseen), p_.position_noise_deg);
+    // Uncertainty: the estimates' disagreement, and the main-sequence spread applied to the
+    // distance still to go; both vanish as the saccade completes.
+    const double disagreement = 0.5 * std::fabs(a_profile - a_decel);
+    const double unseen = p_.model_spread * std::max(0.0, amp - d);
+    est.uncertainty_deg = std::hypot(disagreement, unseen, p_.position_noise_deg);
     return est;
 }
 

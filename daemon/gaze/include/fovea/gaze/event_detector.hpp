@@ -35,6 +35,16 @@ struct DetectorParams {
     double min_onset_dps = 15.0;
     int onset_extra_samples = 0;        // walk back past the threshold to the minimum
     double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
+    // The offset's local minimum is found on a sharper derivative (+-2 ms): the wider window
+    // that keeps peak detection robust fills in the brief dip between a small saccade and its
+    // PSO, and the saccade then swallows the PSO.
+    double offset_half_window_s = 0.002;
+
+    // Offset threshold is also at least the local noise before the onset (Nystrom & Holmqvist:
+    // mean + 3 SD of the velocity over 40 ms): during pursuit the eye never slows to the
+    // global onset threshold, and the saccade would swallow its PSO and the pursuit after it.
+    double local_noise_window_s = 0.040;
+    double local_noise_sd = 3.0;
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
@@ -115,6 +125,7 @@ private:
     struct Entry {
         double t, x, y;
         double v = kNaN;
+        double vf = kNaN;  // speed from the sharper offset derivative
         bool valid = false;  // measured (not a held dropout value)
         bool lost = false;   // part of a loss long enough to be a blink
         Label label = Label::kPending;
@@ -135,8 +146,10 @@ private:
     void start_saccade(int64_t c);
     void end_saccade(int64_t last);
     void finish_record(int64_t id, int64_t last);
+    double local_noise_before(int64_t onset) const;
     void mark_blink_back(int64_t c);
     void update_stats(double v, double dt);
+    void feed_stats(int64_t i);
     double window_speed(int64_t lo, int64_t hi) const;
     void update_noise(int64_t c);
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
@@ -150,9 +163,11 @@ private:
     DetectorMode mode_;
     double rate_;
     int k_;          // velocity half window, samples
+    int kf_;         // offset velocity half window, samples (<= k_)
     int w_;          // smoothing half window, samples
     int lookahead_;  // samples
     int history_;    // samples kept behind the emission point
+    int stats_delay_;  // online: samples between stage 2 and the threshold statistics
     double peak_, onset_;
     // Online threshold statistics (exponentially weighted, warm-started with a prior).
     double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.1;
@@ -163,6 +178,7 @@ private:
     int64_t vel_next_ = 0;  // next sample whose velocity is due
     int64_t s2_next_ = 0;   // next sample for the saccade stage
     int64_t s3_next_ = 0;   // next sample for the fixation/pursuit stage
+    int64_t stats_next_ = 0;  // online: next sample for the threshold statistics
     int64_t emit_next_ = 0;
     bool flushing_ = false;
     static constexpr int64_t kBlock = 1 << 14;
@@ -178,6 +194,7 @@ private:
     State state_ = State::kIdle;
     int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
     double sacc_peak_ = 0.0;
+    double sacc_local_noise_ = 0.0;  // velocity mean + k SD before the onset
     bool sacc_blink_ = false;  // a lid artefact next to a loss: labelled blink
     int64_t post_start_ = -1;
     double post_t0_ = 0.0;

@@ -1,7 +1,8 @@
 // Saccade landing prediction while the saccade is in flight (after Arabadzhiyska et al. 2017):
 // two estimates of the amplitude A, each tied to the main sequence (duration D(A)), combined:
 //   1. profile: the displacement d observed after t is A * s(t / D(A)) for a minimum-jerk
-//      position profile s; solved for the smallest A that explains d (the first root);
+//      position profile s; of the (up to two) amplitudes that explain d, the one whose
+//      profile speed at t is closest to the eye's current speed;
 //   2. remaining distance: the eye still has D(A) - t to go and decelerates roughly linearly
 //      from its current speed v to zero, so A = d + c * v * (D(A) - t), c = 1/2, linear in A.
 // The profile estimate runs low when the real profile peaks early, the deceleration estimate
@@ -30,8 +31,9 @@ struct LandingParams {
     double deceleration_factor = 0.5;
     int speed_fit_samples = 4;  // current speed and position: line through the newest samples
     double max_amplitude_deg = 60.0;
-    // Uncertainty: main-sequence spread of the labels (log duration IQR ~ +-17 %) scaled by the
-    // unseen part of the saccade, plus the two estimates' disagreement and position noise.
+    // Uncertainty: relative error of the distance still to go (the labels' duration spread is
+    // ~ +-17 % IQR around the main sequence, i.e. ~0.25 SD, and the profile adds as much),
+    // plus the two estimates' disagreement and position noise.
     double model_spread = 0.35;
     double position_noise_deg = 0.1;
 };
@@ -58,12 +60,14 @@ public:
     double profile(double tau, double amplitude_deg) const;
 
     // The two amplitude estimates (exposed for tests and tools).
-    double amplitude_from_profile(double elapsed_s, double displacement_deg) const;
+    double amplitude_from_profile(double elapsed_s, double displacement_deg,
+                                  double speed_dps) const;
     double amplitude_from_deceleration(double elapsed_s, double displacement_deg,
                                        double speed_dps) const;
 
 private:
     static constexpr int kSteps = 256;
+    double speed_profile(double tau) const;  // d s / d tau
     LandingParams p_;
     std::array<double, kSteps + 1> cdf_{};  // position profile table
 };
