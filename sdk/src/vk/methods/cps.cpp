@@ -5,13 +5,16 @@
 // compacted list. Pass 2 shades one sample per coarse pixel of the listed tiles (indirect
 // dispatches sized by the lists, so the work is proportional to the samples shaded); pass 3
 // re-shades the pixels at surface discontinuities inside coarse pixels (indirect, sized by the
-// edge list). The shading lands in a colour image the method owns, so a reused tile costs no
-// thread even when another method wrote the frame output in between; it is copied to the output.
+// edge list). The shading lands in colour images the method owns, one per jitter phase (up to
+// kMaxPhases, memory permitting): a reused tile keeps the shading of the frame with the same
+// sub-pixel jitter, so on a still scene reuse is exact even under jitter, and costs no thread even
+// when another method wrote the frame output in between; it is copied to the output.
 // Options (FoveatorConfig::options), see shaders/cps_classify.comp for the classes:
 //   cps.skip=1               0 disables reuse, background and flat classes (plain CPS)
 //   cps.skip.reuse=1         0 disables only the reuse of still tiles
 //   cps.skip.still_px=0.01   max |motion + jitter| of a still tile, pixels
-//   cps.skip.converge=2      still frames shaded at the same rate before a tile is reused
+//   cps.skip.converge=2      still frames shaded at the same rate before a tile is reused (at
+//                            least the jitter phases with their own image: 8 by default)
 //   cps.skip.refresh=30      a reused tile is re-shaded every this many frames (0: never)
 //   cps.skip.ecc_deg=5       max eccentricity change of a reused tile since it was shaded
 //   cps.skip.flat=0.02       luminance contrast (max - min) / (max + min) of a flat tile
@@ -19,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <vector>
 
 #include "../method.hpp"
 
@@ -40,6 +44,10 @@ struct CpsArgs {
     uint32_t pad[3];
 };
 constexpr uint32_t kEdgeList = 3, kBackgroundList = 4, kTileLists = 6;
+// Jitter phases with their own colour image (a pipeline's pool holds 8 sets), and the memory
+// those images may take; beyond either, phases share images and reuse is approximate.
+constexpr uint32_t kMaxPhases = 8;
+constexpr uint64_t kMaxPhaseBytes = uint64_t{256} << 20;
 
 // CpsPush.flags, as in shaders/cps_common.glsl.
 constexpr uint32_t kSkip = 1, kHistory = 2, kCameraStill = 4, kHostBackground = 8, kReuse = 16;
@@ -74,7 +82,15 @@ public:
         state_ = Buffer(ctx.device, uint64_t{capacity_} * 16, storage, false);
         no_detail_ = Buffer(ctx.device, uint64_t{capacity_} * 4, storage, false);
         luminance_ = Buffer(ctx.device, uint64_t{capacity_} * 8, storage, false);
-        color_ = Image(ctx.device, ctx.extent, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
+        const uint32_t jitter = std::max(ctx.config.jitter_length, 1u);
+        phases_ = skip_ && reuse_ && jitter <= kMaxPhases &&
+                          pixels * 8 * jitter <= kMaxPhaseBytes
+                      ? jitter
+                      : 1u;
+        // A tile is reused only once every phase image holds its still shading.
+        push_.converge_frames = std::max(push_.converge_frames, phases_);
+        for (uint32_t i = 0; i < phases_; ++i)
+            colors_.emplace_back(ctx.device, ctx.extent, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
         rate_ = Image(ctx.device, ctx.extent, kRateFormat, VK_IMAGE_USAGE_STORAGE_BIT);
 
         const Binding sb{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
@@ -108,20 +124,23 @@ public:
             .storage_buffer(6, no_detail_)
             .storage_image(7, rate_.view())
             .commit();
-        auto shade_set = [&](ComputePipeline& p) {
-            VkDescriptorSet set = p.allocate_set();
-            DescriptorWriter(d, set)
-                .storage_buffer(0, lists_)
-                .storage_buffer(1, args_)
-                .storage_buffer(2, edges_)
-                .storage_image(3, color_.view())
-                .storage_buffer(4, luminance_)
-                .commit();
-            return set;
+        auto shade_sets = [&](ComputePipeline& p) {
+            std::vector<VkDescriptorSet> sets;
+            for (const Image& color : colors_) {
+                sets.push_back(p.allocate_set());
+                DescriptorWriter(d, sets.back())
+                    .storage_buffer(0, lists_)
+                    .storage_buffer(1, args_)
+                    .storage_buffer(2, edges_)
+                    .storage_image(3, color.view())
+                    .storage_buffer(4, luminance_)
+                    .commit();
+            }
+            return sets;
         };
-        shade_set_ = shade_set(shade_);
-        edge_set_ = shade_set(edge_);
-        if (background_.get()) background_set_ = shade_set(background_);
+        shade_sets_ = shade_sets(shade_);
+        edge_sets_ = shade_sets(edge_);
+        if (background_.get()) background_sets_ = shade_sets(background_);
         extent_ = ctx.extent;
         return {};
     }
@@ -146,31 +165,33 @@ public:
         push.flags = (skip_ ? kSkip : 0u) | (history ? kHistory : 0u) |
                      (history && f.inputs.camera_pos == last_camera_ ? kCameraStill : 0u) |
                      (background_.get() ? kHostBackground : 0u) | (reuse_ ? kReuse : 0u);
+        const uint32_t phase = static_cast<uint32_t>(f.frame_index % phases_);
         classify_.bind(f.cmd, f.frame_set, classify_set_, &push, sizeof(push));
         vkCmdDispatch(f.cmd, tiles_x_, tiles_y_, 1);  // one workgroup per tile
         indirect_barrier(f.cmd);
         for (uint32_t list = 0; list < 3; ++list) {
             push.list = list;
-            shade_.bind(f.cmd, f.frame_set, shade_set_, &push, sizeof(push));
+            shade_.bind(f.cmd, f.frame_set, shade_sets_[phase], &push, sizeof(push));
             vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
         }
         if (background_.get()) {
             for (uint32_t list = kBackgroundList; list < kBackgroundList + 3; ++list) {
                 push.list = list;
-                background_.bind(f.cmd, f.frame_set, background_set_, &push, sizeof(push));
+                background_.bind(f.cmd, f.frame_set, background_sets_[phase], &push,
+                                 sizeof(push));
                 vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
             }
         }
         indirect_barrier(f.cmd);
         push.list = kEdgeList;
-        edge_.bind(f.cmd, f.frame_set, edge_set_, &push, sizeof(push));
+        edge_.bind(f.cmd, f.frame_set, edge_sets_[phase], &push, sizeof(push));
         vkCmdDispatchIndirect(f.cmd, args_.get(), kEdgeList * 16);
         compute_barrier(f.cmd);
         VkImageCopy region{};
         region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.dstSubresource = region.srcSubresource;
         region.extent = {extent_.width, extent_.height, 1};
-        vkCmdCopyImage(f.cmd, color_.get(), VK_IMAGE_LAYOUT_GENERAL, f.color.image,
+        vkCmdCopyImage(f.cmd, colors_[phase].get(), VK_IMAGE_LAYOUT_GENERAL, f.color.image,
                        VK_IMAGE_LAYOUT_GENERAL, 1, &region);
         vkCmdCopyImage(f.cmd, rate_.get(), VK_IMAGE_LAYOUT_GENERAL, f.rate.image,
                        VK_IMAGE_LAYOUT_GENERAL, 1, &region);
@@ -188,10 +209,12 @@ private:
     uint64_t last_frame_ = 0;
     std::array<float, 3> last_camera_{};
     Buffer lists_, args_, edges_, state_, no_detail_, luminance_;
-    Image color_, rate_;  // persistent shading and S_t: reused tiles keep theirs
+    uint32_t phases_ = 1;
+    std::vector<Image> colors_;  // persistent shading per jitter phase: reused tiles keep theirs
+    Image rate_;                 // persistent S_t
     ComputePipeline classify_, shade_, edge_, background_;
-    VkDescriptorSet classify_set_ = VK_NULL_HANDLE, shade_set_ = VK_NULL_HANDLE,
-                    edge_set_ = VK_NULL_HANDLE, background_set_ = VK_NULL_HANDLE;
+    VkDescriptorSet classify_set_ = VK_NULL_HANDLE;
+    std::vector<VkDescriptorSet> shade_sets_, edge_sets_, background_sets_;  // per phase
 };
 
 }  // namespace
