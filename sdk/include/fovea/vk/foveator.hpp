@@ -26,10 +26,11 @@
 // the view direction in the demo), at most cheaper. Method "cps" then shades tiles whose every
 // pixel is background with it instead of fovea_shade (these shades are not counted in
 // shaded_samples; FrameStats::background_tiles). Without it, background is shaded as before.
-// The module detects it by name in shading_glsl. Method "cps" also reuses last frame's shading
-// of still tiles (FrameStats::reused_tiles): fovea_shade should then depend on the G-buffer,
-// the footprint and fovea_frame only slowly through time (reused tiles are refreshed every
-// cps.skip.refresh frames); see sdk/src/vk/README.md "Skipping what the scene doesn't need".
+// The module detects it by name in shading_glsl. Method "cps" also reuses the shading of still
+// tiles (FrameStats::reused_tiles): fovea_shade should then depend on the G-buffer, the
+// footprint and fovea_frame only slowly through time (reused tiles are refreshed every
+// cps.skip.refresh frames), and the G-buffer's motion must show object motion; see
+// sdk/src/vk/README.md "Skipping what the scene doesn't need".
 #pragma once
 
 #include <array>
