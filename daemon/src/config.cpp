@@ -3,6 +3,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "fovea/gaze/calibration.hpp"
+
 namespace fovea::daemon {
 namespace {
 
@@ -57,6 +59,31 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                        read_number(*d, "width_m", g.width_m, 1e-3, 100, origin, "display."),
                        read_number(*d, "height_m", g.height_m, 1e-3, 100, origin, "display."),
                        read_number(*d, "distance_m", g.distance_m, 1e-3, 100, origin, "display.")})
+            if (!r) return r.error();
+    }
+    if (const toml::node* c = root.get("calibration")) {
+        const toml::table* t = c->as_table();
+        if (!t) return key_error(origin, "calibration", "must be a table");
+        for (const auto& [key, node] : *t) {
+            const std::string k(key.str());
+            if (k != "user" && k != "dir" && k != "settle_ms" && k != "collect_ms")
+                return key_error(origin, "calibration." + k, "unknown key");
+        }
+        auto& cc = cfg.calibration;
+        if (const toml::node* u = t->get("user")) {
+            if (!u->is_string()) return key_error(origin, "calibration.user", "must be a string");
+            cc.user = *u->value<std::string>();
+            if (auto p = gaze::Calibration::user_path(".", cc.user); !p)
+                return key_error(origin, "calibration.user", p.error().message);
+        }
+        if (const toml::node* d = t->get("dir")) {
+            if (!d->is_string() || d->value<std::string>()->empty() ||
+                d->value<std::string>()->front() != '/')
+                return key_error(origin, "calibration.dir", "must be an absolute path");
+            cc.dir = *d->value<std::string>();
+        }
+        for (auto r : {read_number(*t, "settle_ms", cc.settle_ms, 0, 5000, origin, "calibration."),
+                       read_number(*t, "collect_ms", cc.collect_ms, 50, 10000, origin, "calibration.")})
             if (!r) return r.error();
     }
     if (const toml::node* z = root.get("zmq")) {

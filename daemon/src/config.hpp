@@ -14,11 +14,21 @@
 
 namespace fovea::daemon {
 
+// [calibration]: whose stored calibration the daemon applies at start, where calibrations
+// live, and how calibrate.point collects from the live device.
+struct CalibrationConfig {
+    std::string user;       // "" = start uncalibrated
+    std::string dir;        // "" = <state_dir()>/calibrations
+    double settle_ms = 300;   // discarded after a target appears (saccadic latency)
+    double collect_ms = 1000; // then collected per target
+};
+
 struct DaemonConfig {
     std::string instance = "default";
     std::string log_level = "info";
     uint32_t ring_slots = 4096;
     gaze::DisplayGeometry display;
+    CalibrationConfig calibration;
     ZmqConfig zmq;                     // [zmq]: Pupil-style gaze fan-out, off by default
     std::vector<toml::table> devices;  // [[device]] tables; empty means one simulated tracker
     std::string source_path;           // the file it came from, "" for defaults

@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -18,6 +19,7 @@
 #include <systemd/sd-daemon.h>
 #endif
 
+#include "calibration_commands.hpp"
 #include "paths.hpp"
 #include "record_commands.hpp"
 #include "record_convert.hpp"
@@ -56,6 +58,7 @@ struct Daemon::Device {
     toml::table config;
     std::unique_ptr<drivers::Driver> driver;
     std::unique_ptr<gaze::Pipeline> pipeline;
+    std::optional<gaze::Calibration> calibration;  // survives pipeline rebuilds
     drivers::DriverInfo info;
     bool open = false;
     std::string open_error;
@@ -151,6 +154,7 @@ Result<void> Daemon::start() {
 
     register_commands();
     attach_recording(*this);  // record.* / latency.* commands and status sections
+    attach_calibration(*this);  // calibrate.* commands, the configured user's calibration
     if (auto r = attach_zmq_publisher(*this); !r) return r;  // [zmq] fan-out, when configured
     bool socket_from_systemd = false;
 #ifdef FOVEA_HAVE_SYSTEMD
@@ -215,6 +219,7 @@ void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
             pc.nominal_rate_hz = now.nominal_rate_hz > 0 ? now.nominal_rate_hz : 1000.0;
             pc.predict_landing = readers_attached_;
             d.pipeline = std::make_unique<gaze::Pipeline>(pc);
+            if (d.calibration) d.pipeline->set_calibration(*d.calibration);
         }
         d.info = now;
     }
@@ -263,6 +268,25 @@ void Daemon::register_commands() {
         asio::post(io_, [this] { request_stop(); });
         return json{{"stopping", true}};
     }, true, "stop the daemon");
+}
+
+bool Daemon::set_calibration(uint32_t device, const gaze::Calibration* calibration) {
+    if (device >= devices_.size()) return false;
+    Device& d = *devices_[device];
+    if (calibration) {
+        d.calibration = *calibration;
+        d.pipeline->set_calibration(*calibration);
+    } else {
+        d.calibration.reset();
+        d.pipeline->clear_calibration();
+    }
+    return true;
+}
+
+int Daemon::show_target(bool shown, double x, double y) {
+    int following = 0;
+    for (auto& d : devices_) following += d->driver->follow_target(shown, x, y) ? 1 : 0;
+    return following;
 }
 
 json Daemon::status() const {

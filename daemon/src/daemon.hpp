@@ -49,6 +49,14 @@ public:
         status_sections_.emplace_back(key, std::move(fn));
     }
     const DaemonConfig& config() const { return config_; }
+    // Calibration (calibration_commands.cpp). Loop thread.
+    std::size_t device_count() const { return devices_.size(); }
+    // Apply `calibration` to device `device`'s chain from its next sample; nullptr removes it.
+    // False when there is no such device.
+    bool set_calibration(uint32_t device, const gaze::Calibration* calibration);
+    // Tell every device where a calibration target is shown (or that none is); returns how
+    // many follow it with their gaze (simulated trackers).
+    int show_target(bool shown, double x, double y);
     // Whether the gaze chain predicts landings right now (recording logs it so replay matches).
     bool landing_prediction() const { return readers_attached_; }
 

@@ -10,10 +10,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <boost/asio/steady_timer.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -56,6 +58,7 @@ Result<SimConfig> parse_config(const toml::table& t) {
     check(read_key(t, "blink_rate_hz", c.blink_rate_hz));
     check(read_key(t, "pursuit_share", c.pursuit_share));
     check(read_key(t, "pupil_mm", c.pupil_mm));
+    check(read_key(t, "distortion", c.distortion));
     check(read_key(t, "counter_bits", bits));
     check(read_key(t, "tick_hz", c.tick_hz));
     check(read_key(t, "drift_ppm", c.drift_ppm));
@@ -88,6 +91,7 @@ public:
         SimConfig c = config_;
         c.start_ns = monotonic_ns();
         tracker_.emplace(c);
+        if (target_) tracker_->look_at(target_->first, target_->second);
         timer_.emplace(io);
         alive_ = std::make_shared<int>(0);
         start_ = std::chrono::steady_clock::now();
@@ -115,6 +119,20 @@ public:
         info.binocular = config_.binocular;
         info.has_pupil = true;
         return info;
+    }
+
+    // The simulated eyes look where a calibration target is shown (tracker_.hpp, look_at).
+    bool follow_target(bool shown, double x, double y) override {
+        if (shown && std::isfinite(x) && std::isfinite(y)) {
+            double dx = 0, dy = 0;
+            config_.display.to_degrees(x, y, dx, dy);
+            target_.emplace(dx, dy);
+            if (tracker_) tracker_->look_at(dx, dy);
+        } else {
+            target_.reset();
+            if (tracker_) tracker_->release();
+        }
+        return true;
     }
 
     DriverStats stats() const override {
@@ -168,6 +186,7 @@ private:
     uint32_t device_id_;
     SampleSink sink_;
     std::optional<SimTracker> tracker_;
+    std::optional<std::pair<double, double>> target_;  // degrees; kept across close()/open()
     std::optional<boost::asio::steady_timer> timer_;
     std::shared_ptr<int> alive_;
     std::chrono::steady_clock::time_point start_;

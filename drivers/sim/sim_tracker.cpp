@@ -32,6 +32,15 @@ double main_sequence_peak_velocity_dps(double amplitude_deg) {
 
 double main_sequence_duration_ms(double amplitude_deg) { return 2.6 * amplitude_deg + 17.0; }
 
+void distort(double s, bool right_eye, double& x, double& y) {
+    if (s == 0.0) return;
+    const double u = x - 0.5, v = y - 0.5;
+    x += s * (0.035 + 0.06 * u + 0.03 * v + 0.10 * u * v + 0.08 * u * u - 0.04 * v * v +
+              (right_eye ? -0.010 : 0.0));
+    y += s * (-0.030 + 0.02 * u + 0.07 * v - 0.06 * u * v + 0.03 * u * u + 0.09 * v * v +
+              (right_eye ? 0.008 : 0.0));
+}
+
 Result<void> validate(const SimConfig& c) {
     if (!(c.rate_hz >= 60.0 && c.rate_hz <= 2000.0))
         return make_error("sim: rate_hz must be within 60..2000, got " + std::to_string(c.rate_hz));
@@ -51,6 +60,8 @@ Result<void> validate(const SimConfig& c) {
     if (!(c.pursuit_share >= 0 && c.pursuit_share <= 0.8))
         return make_error("sim: pursuit_share must be within 0..0.8");
     if (!(c.pupil_mm >= 1.5 && c.pupil_mm <= 8)) return make_error("sim: pupil_mm must be 1.5..8");
+    if (!(c.distortion >= 0 && c.distortion <= 3))
+        return make_error("sim: distortion must be within 0..3");
     const auto& d = c.display;
     if (!(d.width_px > 0 && d.height_px > 0 && d.width_m > 0 && d.height_m > 0 && d.distance_m > 0))
         return make_error("sim: display geometry must be positive");
@@ -147,8 +158,8 @@ void SimTracker::start_fixation(int64_t t_ns, double mean_ms) {
     const double ms = std::clamp(mean_ms * 0.9 * std::exp(0.45 * rng_.normal()), 80.0, 2000.0);
     phase_start_ns_ = t_ns;
     phase_end_ns_ = t_ns + static_cast<int64_t>(ms * kMsNs);
-    fix_x_ = x_;
-    fix_y_ = y_;
+    fix_x_ = target_held_ && !target_pending_ ? target_x_ : x_;
+    fix_y_ = target_held_ && !target_pending_ ? target_y_ : y_;
     drift_dir_ = rng_.uniform(0, 2 * kPi);
     truth_.event = gaze::Event::kFixation;
     truth_.in_saccade = false;
@@ -178,7 +189,12 @@ bool SimTracker::start_saccade(int64_t t_ns) {
         dx = -x_ / dist * amp;
         dy = -y_ / dist * amp;
     }
+    begin_saccade(t_ns, dx, dy);
+    return true;
+}
 
+void SimTracker::begin_saccade(int64_t t_ns, double dx, double dy) {
+    const double amp = std::hypot(dx, dy);
     // Main sequence with per-saccade variability that keeps Vp * D / A (the profile's shape).
     const double jitter = 1.0 + std::clamp(0.08 * rng_.normal(), -0.25, 0.25);
     const double dur_s = main_sequence_duration_ms(amp) * 1e-3 * jitter;
@@ -216,7 +232,32 @@ bool SimTracker::start_saccade(int64_t t_ns) {
     truth_.saccade_peak_velocity_dps = vp;
     truth_.landing_x_deg = x_ + dx;
     truth_.landing_y_deg = y_ + dy;
-    return true;
+}
+
+void SimTracker::look_at(double x_deg, double y_deg) {
+    target_x_ = x_deg;
+    target_y_ = y_deg;
+    clamp_to_display(target_x_, target_y_);
+    target_held_ = target_pending_ = true;
+    // Saccadic latency: the eyes leave 150-250 ms after the target appears.
+    target_go_ns_ = prev_t_ns_ + static_cast<int64_t>(rng_.uniform(150.0, 250.0) * kMsNs);
+}
+
+void SimTracker::release() { target_held_ = target_pending_ = false; }
+
+void SimTracker::maybe_go_to_target(int64_t t_ns) {
+    // Leave from a fixation or a pursuit; a saccade, PSO or blink in progress finishes first.
+    if (!target_pending_ || t_ns < target_go_ns_ ||
+        (phase_ != Phase::kFixation && phase_ != Phase::kPursuit)) {
+        return;
+    }
+    target_pending_ = false;
+    const double dx = target_x_ - x_, dy = target_y_ - y_;
+    if (std::hypot(dx, dy) < 0.05) {
+        start_fixation(t_ns, config_.fixation_mean_ms);
+    } else {
+        begin_saccade(t_ns, dx, dy);
+    }
 }
 
 void SimTracker::start_pursuit(int64_t t_ns) {
@@ -258,7 +299,14 @@ void SimTracker::start_next_phase(int64_t t_ns) {
     switch (phase_) {
         case Phase::kFixation: {
             const double u = rng_.uniform();
-            if (u < p_blink_) {
+            if (target_held_) {
+                // Looking at a target: blink now and then, otherwise keep fixating it.
+                if (u < p_blink_) {
+                    start_blink(t_ns);
+                } else {
+                    start_fixation(t_ns, config_.fixation_mean_ms);
+                }
+            } else if (u < p_blink_) {
                 start_blink(t_ns);
             } else if (u < p_blink_ + p_pursuit_) {
                 start_pursuit(t_ns);
@@ -388,6 +436,7 @@ void SimTracker::eye_outputs(int64_t t_ns, gaze::EyeSample& left, gaze::EyeSampl
                           bx + tremor_x + noise * rng_.normal();
         const double ey = y_ + pso * pso_gain * uy + by + tremor_y + sag + noise * rng_.normal();
         config_.display.to_normalized(ex, ey, eye.x, eye.y);
+        distort(config_.distortion, side < 0, eye.x, eye.y);
         eye.pupil_mm = std::max(0.5, pupil_mm * (1.0 - 0.6 * occlusion) + 0.01 * rng_.normal());
         eye.valid = true;
     };
@@ -413,6 +462,7 @@ SimTracker::Frame SimTracker::next() {
     const double dt_s = (t_ns - prev_t_ns_) / kNsPerS;
     // Phase boundaries fall at exact times, independent of the sampling rate.
     while (t_ns >= phase_end_ns_) start_next_phase(phase_end_ns_);
+    maybe_go_to_target(t_ns);
     advance(t_ns, dt_s);
 
     Frame f;

@@ -10,6 +10,17 @@
 // - smooth pursuit at 2-30 deg/s with a ramped onset;
 // - blinks of 100-400 ms: lid edges drag gaze down and shrink the pupil, the middle is invalid.
 // Measurement noise is added per eye; the truth is noise-free.
+//
+// For calibration tests (`fovea calibrate`, DESIGN.md §4):
+// - look_at(): the eyes fixate a target (a main-sequence saccade after a 150-250 ms latency,
+//   then fixations on it with drift, tremor, noise and the occasional blink) until release();
+// - `distortion` S > 0 bends each eye's raw output with a known second-order polynomial, the
+//   kind a tracker shows before it is calibrated. With u = x - 0.5, v = y - 0.5 the measured
+//   normalized position (noise included), the output is
+//     left:  u' = u + S (0.035 + 0.06 u + 0.03 v + 0.10 u v + 0.08 u^2 - 0.04 v^2)
+//            v' = v + S (-0.030 + 0.02 u + 0.07 v - 0.06 u v + 0.03 u^2 + 0.09 v^2)
+//     right: the same plus S (-0.010, +0.008)
+//   S = 1 puts the raw gaze ~2-3 deg off on a 24" screen at 60 cm; see distort().
 #pragma once
 
 #include <array>
@@ -35,6 +46,7 @@ struct SimConfig {
     double blink_rate_hz = 0.25;      // ~15 blinks a minute
     double pursuit_share = 0.15;      // fraction of time in smooth pursuit
     double pupil_mm = 3.5;
+    double distortion = 0.0;  // strength S of the raw-output distortion above, 0..3 (0: off)
 
     // The device clock as the raw samples report it.
     int counter_bits = 32;       // 16, 32 or 64
@@ -73,6 +85,12 @@ public:
     // The next sample, 1/rate_hz after the previous one.
     Frame next();
 
+    // Fixate a target (degrees from the display centre, clamped to the display) from the next
+    // sample on, after a saccadic latency; release() returns to free viewing.
+    void look_at(double x_deg, double y_deg);
+    void release();
+    bool has_target() const { return target_held_; }
+
     const SimConfig& config() const { return config_; }
     uint64_t samples_generated() const { return index_; }
 
@@ -91,6 +109,8 @@ private:
     void start_next_phase(int64_t t_ns);
     void start_fixation(int64_t t_ns, double mean_ms);
     bool start_saccade(int64_t t_ns);
+    void begin_saccade(int64_t t_ns, double dx, double dy);
+    void maybe_go_to_target(int64_t t_ns);
     void start_pursuit(int64_t t_ns);
     void start_blink(int64_t t_ns);
     void advance(int64_t t_ns, double dt_s);
@@ -129,7 +149,15 @@ private:
     double bias_lx_ = 0.0, bias_ly_ = 0.0, bias_rx_ = 0.0, bias_ry_ = 0.0;
     double anisocoria_mm_ = 0.0;
     SimTruth truth_;
+    // The target look_at() set: fixated from target_go_ns_ on.
+    bool target_held_ = false, target_pending_ = false;
+    double target_x_ = 0.0, target_y_ = 0.0;
+    int64_t target_go_ns_ = 0;
 };
+
+// The documented raw-output distortion of strength `s` (see the top of this file) for one eye,
+// on normalized display coordinates.
+void distort(double s, bool right_eye, double& x, double& y);
 
 // Main sequence from ../shared/data/README.md (A in degrees).
 double main_sequence_peak_velocity_dps(double amplitude_deg);

@@ -102,5 +102,33 @@ TEST(Calibration, SaveLoadRoundTripsAndUserPathRejectsTricks) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(Calibration, EvaluateUnmappedMeasuresRawOffsetAndPrecision) {
+    // Raw already in normalized units, every left sample 0.02 to the right of its target (and
+    // alternating +-0.001 vertically): accuracy is that offset in degrees, RMS sample-to-sample
+    // is the 0.002 jump, SD the 0.001 spread.
+    const DisplayGeometry d;
+    Calibration c(d);
+    for (double tx : {0.3, 0.5, 0.7}) {
+        for (int k = 0; k < 10; ++k) {
+            const double jitter = (k % 2 ? 0.001 : -0.001);
+            const EyeSample l{tx + 0.02, 0.5 + jitter, 0.0, true};
+            c.add_sample(tx, 0.5, l, EyeSample{});
+        }
+    }
+    const CalibrationQuality q = c.evaluate_unmapped();
+    EXPECT_EQ(q.targets, 3);
+    EXPECT_FALSE(q.left.fitted);
+    EXPECT_EQ(q.left.samples_used, 30);
+    EXPECT_EQ(q.right.samples_used, 0);
+    double ax, ay, bx, by;
+    d.to_degrees(0.52, 0.501, ax, ay);
+    d.to_degrees(0.50, 0.500, bx, by);
+    EXPECT_NEAR(q.left.accuracy_deg, std::hypot(ax - bx, ay - by), 0.01);
+    d.to_degrees(0.5, 0.5 + 0.002, ax, ay);
+    EXPECT_NEAR(q.left.precision_rms_deg, std::fabs(ay), 1e-3);
+    EXPECT_NEAR(q.left.precision_sd_deg, std::fabs(ay) / 2, 1e-3);
+    EXPECT_FALSE(c.fitted());  // evaluating fits nothing
+}
+
 }  // namespace
 }  // namespace fovea::gaze

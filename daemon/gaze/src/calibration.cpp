@@ -156,17 +156,29 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
     q.fitted = true;
     q.samples_used = static_cast<int>(kept.size());
     q.samples_rejected = static_cast<int>(idx.size() - kept.size());
-    double acc = 0.0;
-    for (size_t i : kept) acc += error_deg(i, fit);
-    q.accuracy_deg = acc / static_cast<double>(kept.size());
+    measure(side, kept, [&](const EyeSample& e, double& x, double& y) {
+        x = eval(fit.cx, fit.norm, e.x, e.y);
+        y = eval(fit.cy, fit.norm, e.x, e.y);
+    }, q);
+    return fit;
+}
+
+void Calibration::measure(EyeSide side, const std::vector<size_t>& use, const MapFn& map,
+                          EyeQuality& q) const {
+    // Accuracy: mean angular offset of every mapped sample from its target.
     // Precision per target, on the mapped samples in their arrival order.
     std::map<std::pair<double, double>, std::vector<std::pair<double, double>>> per_target;
-    for (size_t i : kept) {
-        double dx, dy;
-        display_.to_degrees(eval(fit.cx, fit.norm, raw(i).x, raw(i).y),
-                            eval(fit.cy, fit.norm, raw(i).x, raw(i).y), dx, dy);
+    double acc = 0.0;
+    for (size_t i : use) {
+        const EyeSample& e = side == EyeSide::kLeft ? points_[i].left : points_[i].right;
+        double mx = 0, my = 0, dx, dy, tx, ty;
+        map(e, mx, my);
+        display_.to_degrees(mx, my, dx, dy);
+        display_.to_degrees(points_[i].tx, points_[i].ty, tx, ty);
+        acc += std::hypot(dx - tx, dy - ty);
         per_target[{points_[i].tx, points_[i].ty}].emplace_back(dx, dy);
     }
+    q.accuracy_deg = use.empty() ? kNaN : acc / static_cast<double>(use.size());
     double s2s = 0.0, dev = 0.0;
     size_t n2s = 0, ndev = 0;
     for (const auto& [target, v] : per_target) {
@@ -189,7 +201,27 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
     }
     q.precision_rms_deg = n2s ? std::sqrt(s2s / static_cast<double>(n2s)) : 0.0;
     q.precision_sd_deg = ndev ? std::sqrt(dev / static_cast<double>(ndev)) : 0.0;
-    return fit;
+}
+
+CalibrationQuality Calibration::evaluate_unmapped() const {
+    CalibrationQuality q;
+    std::map<std::pair<double, double>, int> targets;
+    for (const auto& p : points_) targets[{p.tx, p.ty}]++;
+    q.targets = static_cast<int>(targets.size());
+    for (EyeSide side : {EyeSide::kLeft, EyeSide::kRight}) {
+        EyeQuality& e = side == EyeSide::kLeft ? q.left : q.right;
+        std::vector<size_t> idx;
+        for (size_t i = 0; i < points_.size(); ++i) {
+            if (usable(side == EyeSide::kLeft ? points_[i].left : points_[i].right)) idx.push_back(i);
+        }
+        if (idx.empty()) continue;
+        e.samples_used = static_cast<int>(idx.size());
+        measure(side, idx, [](const EyeSample& raw, double& x, double& y) {
+            x = raw.x;
+            y = raw.y;
+        }, e);
+    }
+    return q;
 }
 
 Result<CalibrationQuality> Calibration::fit() {

@@ -69,6 +69,10 @@ public:
     virtual DriverStats stats() const = 0;
     // Drivers that read head trackers publish head pose here. Call before open(), loop thread.
     virtual void set_head_sink(HeadSink /*sink*/) {}
+    // Calibration: a target is shown at (x, y), normalized display coordinates, or hidden
+    // (`shown` false). Simulated trackers make their eyes fixate it; real ones ignore it.
+    // Returns whether this device's gaze follows the target. Loop thread.
+    virtual bool follow_target(bool /*shown*/, double /*x*/, double /*y*/) { return false; }
 };
 
 // A driver is built from its `[[device]]` table of the daemon's TOML configuration.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ public:
     void add_sample(double target_x, double target_y, const EyeSample& left,
                     const EyeSample& right);
     Result<CalibrationQuality> fit();
+    // The collected samples as the chain shows them without a calibration (raw taken as
+    // normalized display coordinates): the "before" figures. `fitted` stays false.
+    CalibrationQuality evaluate_unmapped() const;
 
     bool fitted() const { return left_.ok || right_.ok; }
     // Map one eye's raw sample; unchanged when that eye has no fit.
@@ -76,6 +80,10 @@ private:
         double norm[3] = {0.0, 0.0, 1.0};  // raw centre x, y and 1/half-range
     };
     EyeFit fit_eye(EyeSide side, EyeQuality& quality) const;
+    using MapFn = std::function<void(const EyeSample& raw, double& x, double& y)>;
+    // Accuracy and precision of one eye's samples `use`, mapped to normalized coordinates.
+    void measure(EyeSide side, const std::vector<size_t>& use, const MapFn& map,
+                 EyeQuality& quality) const;
 
     DisplayGeometry display_;
     std::vector<Point> points_;

@@ -1,0 +1,226 @@
+// `fovea calibrate` end to end: a real fovead on a private instance runs the simulated tracker
+// with its known distortion; the CLI calibrates over the control socket; the ring then carries
+// calibrated, accurate gaze; garbage requests get one clear error and the daemon keeps running;
+// a restarted daemon configured for the user applies the stored calibration.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "control.hpp"
+#include "fovea/client.hpp"
+#include "paths.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr int kSlowdown = 10;
+#else
+constexpr int kSlowdown = 1;
+#endif
+
+const std::string kFovead = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
+const std::string kFovea = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
+
+std::string slurp(const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+struct Proc {
+    pid_t pid = -1;
+    std::string out_path, err_path;
+    // Exit code, or 128+signal; -1 on timeout (then the process is killed).
+    int wait(std::chrono::milliseconds timeout) {
+        if (pid <= 0) return -2;
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        int status = 0;
+        while (std::chrono::steady_clock::now() < end) {
+            if (waitpid(pid, &status, WNOHANG) == pid) {
+                pid = -1;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            }
+            std::this_thread::sleep_for(5ms);
+        }
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        pid = -1;
+        return -1;
+    }
+    ~Proc() {
+        if (pid > 0) {
+            kill(pid, SIGKILL);
+            waitpid(pid, nullptr, 0);
+        }
+    }
+};
+
+struct CalibrateEndToEnd : ::testing::Test {
+    std::string dir, instance, config;
+
+    void SetUp() override {
+        instance = "ci" + std::to_string(getpid());
+        dir = fs::temp_directory_path() / ("fv-" + instance);
+        fs::create_directories(dir);
+        setenv("FOVEA_RUNTIME_DIR", dir.c_str(), 1);
+        setenv("FOVEA_STATE_DIR", (dir + "/state").c_str(), 1);
+        config = dir + "/fovead.toml";
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    void write_config(const std::string& user) {
+        std::ofstream(config) << "[[device]]\ndriver = \"sim\"\ndistortion = 1.0\nseed = 3\n"
+                                 "[calibration]\nsettle_ms = 300\ncollect_ms = 300\n"
+                              << (user.empty() ? "" : "user = \"" + user + "\"\n");
+    }
+
+    std::unique_ptr<Proc> spawn(const std::string& exe, std::vector<std::string> args) {
+        auto p = std::make_unique<Proc>();
+        static int n = 0;
+        p->out_path = dir + "/out" + std::to_string(++n);
+        p->err_path = dir + "/err" + std::to_string(n);
+        posix_spawn_file_actions_t fa;
+        posix_spawn_file_actions_init(&fa);
+        posix_spawn_file_actions_addopen(&fa, 1, p->out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&fa, 2, p->err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        args.insert(args.begin(), exe);
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        EXPECT_EQ(posix_spawn(&p->pid, exe.c_str(), &fa, nullptr, argv.data(), environ), 0);
+        posix_spawn_file_actions_destroy(&fa);
+        return p;
+    }
+
+    fovea::Result<json> query(const json& req) {
+        return fovea::daemon::control_request(fovea::daemon::control_socket_path(instance), req,
+                                              2000 * kSlowdown);
+    }
+
+    std::unique_ptr<Proc> start_daemon() {
+        auto d = spawn(kFovead, {"--instance", instance, "--config", config});
+        const auto end = std::chrono::steady_clock::now() + 5s * kSlowdown;
+        while (std::chrono::steady_clock::now() < end) {
+            if (query({{"cmd", "status"}}).ok()) return d;
+            std::this_thread::sleep_for(10ms);
+        }
+        ADD_FAILURE() << "fovead did not come up: " << slurp(d->err_path);
+        return d;
+    }
+
+    // Show a target and measure the published left/right gaze against it: mean offset in
+    // degrees per eye and the share of records flagged calibrated.
+    struct Measured {
+        double left_deg = NAN, right_deg = NAN, calibrated_share = 0;
+        int records = 0;
+    };
+    Measured measure_at(double x, double y) {
+        auto shown = query({{"cmd", "calibrate.target"}, {"x", x}, {"y", y}});
+        EXPECT_TRUE(shown.ok() && (*shown)["ok"].get<bool>());
+        const double tx = (*shown)["deg_x"], ty = (*shown)["deg_y"];
+        std::this_thread::sleep_for(500ms);  // latency, saccade, settling
+        fovea::Client ring(instance);
+        uint64_t cursor = ring.head();
+        Measured m;
+        double sum[2] = {0, 0}, n[2] = {0, 0}, flagged = 0;
+        const auto end = std::chrono::steady_clock::now() + 400ms;
+        while (std::chrono::steady_clock::now() < end) {
+            if (!ring.wait(cursor, 100)) continue;
+            for (const auto& r : ring.read(cursor, 256).records) {
+                ++m.records;
+                flagged += (r.flags & FOVEA_FLAG_CALIBRATED) ? 1 : 0;
+                const fovea_eye* eyes[2] = {&r.left, &r.right};
+                for (int e = 0; e < 2; ++e) {
+                    if (!(eyes[e]->valid & FOVEA_VALID)) continue;
+                    sum[e] += std::hypot(eyes[e]->deg_x - tx, eyes[e]->deg_y - ty);
+                    n[e] += 1;
+                }
+            }
+        }
+        m.left_deg = n[0] ? sum[0] / n[0] : NAN;
+        m.right_deg = n[1] ? sum[1] / n[1] : NAN;
+        m.calibrated_share = m.records ? flagged / m.records : 0;
+        return m;
+    }
+};
+
+TEST_F(CalibrateEndToEnd, CalibratesTheDistortedSimulatorOverTheSocket) {
+    write_config("");
+    auto d = start_daemon();
+    const Measured raw = measure_at(0.35, 0.6);
+    EXPECT_GT(raw.records, 100);
+    EXPECT_EQ(raw.calibrated_share, 0.0);
+    EXPECT_GT(raw.left_deg, 1.0) << "the distortion is on";
+
+    auto cal = spawn(kFovea, {"--instance", instance, "calibrate", "--user", "it", "--json"});
+    ASSERT_EQ(cal->wait(60s * kSlowdown), 0) << slurp(cal->err_path) << slurp(cal->out_path);
+    const json r = json::parse(slurp(cal->out_path));
+    for (const char* eye : {"left", "right"}) {
+        EXPECT_GT(r["before"][eye]["accuracy_deg"].get<double>(), 1.5) << eye;
+        EXPECT_LT(r["after"][eye]["accuracy_deg"].get<double>(), 0.5) << eye;
+        EXPECT_LT(r["validation"][eye]["accuracy_deg"].get<double>(), 0.5) << eye;
+        std::printf("%s eye: accuracy before %.3f deg, after %.3f deg (fit), %.3f deg (validation); "
+                    "precision RMS %.3f / SD %.3f deg\n",
+                    eye, r["before"][eye]["accuracy_deg"].get<double>(),
+                    r["after"][eye]["accuracy_deg"].get<double>(),
+                    r["validation"][eye]["accuracy_deg"].get<double>(),
+                    r["after"][eye]["precision_rms_deg"].get<double>(),
+                    r["after"][eye]["precision_sd_deg"].get<double>());
+    }
+    EXPECT_EQ(r["validation"]["calibrated_records"], r["validation"]["records"]);
+    EXPECT_TRUE(fs::exists(dir + "/state/calibrations/it.json"));
+
+    // The ring after calibration: flagged and accurate at a point no target used.
+    const Measured after = measure_at(0.35, 0.6);
+    EXPECT_EQ(after.calibrated_share, 1.0);
+    EXPECT_LT(after.left_deg, 0.6);
+    EXPECT_LT(after.right_deg, 0.6);
+
+    // Garbage: one clear error line each, and the daemon keeps publishing.
+    for (const json& bad : {json{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}},
+                            json{{"cmd", "calibrate.start"}, {"user", "a/b"}},
+                            json{{"cmd", "calibrate.apply"}, {"user", 17}},
+                            json{{"cmd", "calibrate.target"}, {"x", 0.5}, {"y", "down"}}}) {
+        auto e = query(bad);
+        ASSERT_TRUE(e.ok()) << e.error().message;
+        EXPECT_FALSE((*e)["ok"].get<bool>()) << bad;
+        EXPECT_FALSE((*e).value("error", "").empty()) << bad;
+    }
+    auto s = query({{"cmd", "status"}});
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ((*s)["calibration"]["active"]["user"], "it");
+    EXPECT_EQ(measure_at(0.6, 0.4).calibrated_share, 1.0);
+
+    // A daemon configured for the user applies the stored calibration at start.
+    ASSERT_TRUE(query({{"cmd", "shutdown"}}).ok());
+    ASSERT_EQ(d->wait(10s * kSlowdown), 0) << slurp(d->err_path);
+    write_config("it");
+    d = start_daemon();
+    const Measured reloaded = measure_at(0.65, 0.35);
+    EXPECT_EQ(reloaded.calibrated_share, 1.0);
+    EXPECT_LT(reloaded.left_deg, 0.6);
+    EXPECT_LT(reloaded.right_deg, 0.6);
+}
+
+}  // namespace
