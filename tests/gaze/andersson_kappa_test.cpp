@@ -34,10 +34,10 @@ struct Floor {
 };
 
 const Floor kOffline[] = {
-    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.73, false},
+    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.75, false},
     {"video", "saccade", 0.84, true}, {"img", "fixation", 0.75, true},
     {"dots", "fixation", 0.55, true}, {"video", "fixation", 0.55, true},
-    {"img", "pso", 0.65, true},       {"dots", "pso", 0.50, false},
+    {"img", "pso", 0.65, true},       {"dots", "pso", 0.54, false},
     {"video", "pso", 0.57, false},
 };
 
@@ -59,19 +59,18 @@ TEST_F(Lund2013, OfflineKappaMeetsTargetsOrRegressionFloors) {
     }
 }
 
-// With a 400 ms look-ahead; at the daemon's default 100 ms the fixation/pursuit split loses
-// 0.15-0.3 kappa (README.md table), saccades and PSO do not.
-TEST_F(Lund2013, OnlineWith400msLookaheadWithinFiveHundredthsOfOffline) {
+// With a 350 ms look-ahead (the smallest bound that keeps every event within 0.05; 300 ms
+// loses 0.07 on dots fixations); at the daemon's default 100 ms the fixation/pursuit split
+// loses 0.05-0.25 kappa, saccades and PSO do not (their thresholds learn at stage 2, so they
+// do not depend on the look-ahead at all).
+TEST_F(Lund2013, OnlineWith350msLookaheadWithinFiveHundredthsOfOffline) {
     const EvalResult off = evaluate(DetectorMode::kOffline);
-    const EvalResult on = evaluate(DetectorMode::kOnline, 0.4);
+    const EvalResult on = evaluate(DetectorMode::kOnline, 0.35);
     for (const auto& f : kOffline) {
         const double a = off.kappa.at(f.stimulus).at(f.event).at("both");
         const double b = on.kappa.at(f.stimulus).at(f.event).at("both");
         std::printf("online %-5s %-8s kappa %.3f (offline %.3f)\n", f.stimulus, f.event, b, a);
-        // dots recordings last 1-2 s: the online statistics are still warming up (README.md).
-        const double allowed =
-            std::string(f.stimulus) == "dots" && std::string(f.event) == "fixation" ? 0.15 : 0.05;
-        EXPECT_GE(b, a - allowed) << f.stimulus << " " << f.event;
+        EXPECT_GE(b, a - 0.05) << f.stimulus << " " << f.event;
     }
 }
 

@@ -33,6 +33,10 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     }
     history_ = std::max(k_, w_) + 2;
     stats_delay_ = samples_for(p_.blink_pre_s, rate_, 1) + 2;
+    if (mode_ == DetectorMode::kOnline) {
+        noise_ = p_.noise_prior_deg;
+        noise_weight_ = std::max(0.0, p_.noise_prior_samples);
+    }
     peak_ = p_.initial_peak_dps;
     onset_ = std::max(p_.min_onset_dps, stat_mean_ + p_.onset_sd * std::sqrt(stat_var_));
 }

@@ -55,6 +55,10 @@ struct DetectorParams {
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
     double pursuit_noise_gain = 85.0;    // threshold floor per degree of position noise
+    // Online: prior for the position noise (the lund2013 recordings span 0.017-0.078, median
+    // ~0.03 deg), worth this many samples, so the first samples cannot set it alone.
+    double noise_prior_deg = 0.03;
+    double noise_prior_samples = 200.0;
     double min_pursuit_window_s = 0.03;  // shorter windows keep the previous decision
     double pursuit_hysteresis = 0.5;     // leave pursuit below this x threshold
     double min_blink_s = 0.016;          // shorter tracking losses are dropouts, not blinks
