@@ -13,6 +13,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
     cfg.acuity = o.acuity;
     cfg.method = "full";
     cfg.post_chain = o.post_chain;
+    cfg.options = o.options;
     cfg.shading_glsl = shading_glsl();
     auto fov = vk::Foveator::create(device, cfg);
     if (!fov) return fov.error();
@@ -103,6 +104,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
                 acc.ssim_bands[b] += e.ssim_bands[b];
             }
             ++compared[k];
+            if (o.on_frame) o.on_frame(k, i, f, img);
             if (!o.png_dir.empty()) {
                 const std::string base = o.png_dir + "/" + o.png_prefix + "_" +
                                           std::to_string(i) + "_" + names[k];

@@ -24,6 +24,7 @@ struct DemoOptions {
     std::string out = "fovea_demo_out";
     std::string scene = "demo";
     std::vector<std::string> post;
+    std::vector<std::string> options;  // FoveatorConfig::options, "key=value"
     double dt = 0.1;
     bool validation = false;
 };
@@ -72,6 +73,7 @@ int run_demo(const DemoOptions& o) {
     ro.frame_dt_s = o.dt;
     ro.png_dir = o.out;
     ro.post_chain = o.post;
+    ro.options = o.options;
     ro.scene = o.scene == "zoneplate" ? demo::SceneKind::kZonePlate
                : o.scene == "grating" ? demo::SceneKind::kGrating
                                       : demo::SceneKind::kDemo;
@@ -148,6 +150,7 @@ void setup(CLI::App& app) {
     app.add_option("--out", o->out, "Directory for the PNGs");
     app.add_option("--scene", o->scene, "demo | zoneplate | grating")
         ->check(CLI::IsMember({"demo", "zoneplate", "grating"}));
+    app.add_option("--option", o->options, "Method/pass option key=value (e.g. kfr.sigma=1.6)");
     app.add_option("--post", o->post, "Post passes after shading (e.g. taa contrast)");
     app.add_option("--dt", o->dt, "Seconds between rendered frames along the path")
         ->check(CLI::Range(0.001, 10.0));

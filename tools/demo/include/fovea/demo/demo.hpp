@@ -103,6 +103,10 @@ struct RunOptions {
     std::string png_dir;        // write PNGs of every method's frames when set
     std::string png_prefix = "frame";
     std::function<void(const std::string&)> progress;  // one line per frame
+    std::vector<std::string> options;  // FoveatorConfig::options ("key=value") for every method
+    // Called after every measured frame of every method (index into the results, frame >= 0)
+    // with the tone-mapped output; the foveator's stats()/gbuffer() are this frame's.
+    std::function<void(size_t method, int frame, const vk::Foveator&, const Rgb8& output)> on_frame;
 };
 struct MethodResult {
     std::string name;

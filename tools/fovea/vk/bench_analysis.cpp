@@ -1,0 +1,108 @@
+#include "bench_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace fovea::bench {
+
+std::vector<size_t> pareto_front(const std::vector<CostQuality>& points) {
+    std::vector<size_t> order;
+    for (size_t i = 0; i < points.size(); ++i)
+        if (std::isfinite(points[i].cost) && std::isfinite(points[i].quality)) order.push_back(i);
+    // Cheapest first; at equal cost the best quality first, so a sweep keeping the best quality
+    // seen so far accepts exactly the undominated points.
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        if (points[a].cost != points[b].cost) return points[a].cost < points[b].cost;
+        return points[a].quality > points[b].quality;
+    });
+    std::vector<size_t> front;
+    double best = -std::numeric_limits<double>::infinity();
+    for (size_t i : order) {
+        if (points[i].quality > best) {
+            front.push_back(i);
+            best = points[i].quality;
+        }
+    }
+    return front;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::sort(v.begin(), v.end());
+    const double rank = std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * double(v.size()));
+    return v[size_t(std::max(rank, 1.0)) - 1];
+}
+
+double finite_mean(const std::vector<double>& v) {
+    double sum = 0.0;
+    int n = 0;
+    for (double x : v)
+        if (std::isfinite(x)) {
+            sum += x;
+            ++n;
+        }
+    return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<float> luminance(const std::vector<uint8_t>& rgb, uint32_t width, uint32_t height) {
+    std::vector<float> l(size_t(width) * height);
+    for (size_t i = 0; i < l.size(); ++i)
+        l[i] = (0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2]) /
+               255.f;
+    return l;
+}
+
+namespace {
+
+float half_to_float(uint16_t h) {
+    const uint32_t e = (h >> 10) & 31u, m = h & 1023u;
+    float v;
+    if (e == 0) v = std::ldexp(float(m), -24);
+    else if (e == 31) v = m ? std::numeric_limits<float>::quiet_NaN()
+                            : std::numeric_limits<float>::infinity();
+    else v = std::ldexp(float(m | 1024u), int(e) - 25);
+    return (h & 0x8000u) ? -v : v;
+}
+
+}  // namespace
+
+std::vector<float> decode_rg16f(const std::vector<uint8_t>& rg16f) {
+    std::vector<float> out(rg16f.size() / 2);
+    for (size_t i = 0; i < out.size(); ++i) {
+        uint16_t h;
+        std::memcpy(&h, rg16f.data() + 2 * i, 2);
+        out[i] = half_to_float(h);
+    }
+    return out;
+}
+
+double temporal_difference(const std::vector<float>& previous_luma,
+                           const std::vector<float>& current_luma,
+                           const std::vector<float>& motion_px, uint32_t width, uint32_t height) {
+    double sum = 0.0;
+    size_t n = 0;
+    const auto at = [&](uint32_t x, uint32_t y) { return previous_luma[size_t(y) * width + x]; };
+    for (uint32_t y = 0; y < height; ++y) {
+        for (uint32_t x = 0; x < width; ++x) {
+            const size_t i = size_t(y) * width + x;
+            const float mx = motion_px[2 * i], my = motion_px[2 * i + 1];
+            if (!std::isfinite(mx) || !std::isfinite(my)) continue;
+            // Previous position of this pixel's centre, in continuous pixel coordinates whose
+            // texel centres sit at integer + 0.5; bilinear needs both neighbours inside.
+            const float px = float(x) + 0.5f - mx - 0.5f, py = float(y) + 0.5f - my - 0.5f;
+            if (px < 0.f || py < 0.f || px > float(width - 1) || py > float(height - 1)) continue;
+            const uint32_t x0 = uint32_t(px), y0 = uint32_t(py);
+            const uint32_t x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+            const float fx = px - float(x0), fy = py - float(y0);
+            const float prev = (at(x0, y0) * (1.f - fx) + at(x1, y0) * fx) * (1.f - fy) +
+                               (at(x0, y1) * (1.f - fx) + at(x1, y1) * fx) * fy;
+            sum += std::fabs(current_luma[i] - prev);
+            ++n;
+        }
+    }
+    return n > 0 ? sum / double(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace fovea::bench

@@ -1,0 +1,189 @@
+#include "bench_sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <set>
+
+#include "bench_analysis.hpp"
+#include "fovea/vk/foveator.hpp"
+
+namespace fovea::bench {
+namespace {
+
+constexpr double kFrameDt = 1.0 / 60.0;  // display rate: motion vectors span one frame
+constexpr uint64_t kGazeSeed = 7;        // the demo's scripted trace
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
+    return s;
+}
+
+std::string display_name(const vk::EyeDisplay& d, const char* what) {
+    return std::string(what) + " " + std::to_string(d.width_px) + "x" + std::to_string(d.height_px);
+}
+
+// The keys of a configuration this method (or its post chain) reads: acuity is shared, options
+// are prefixed by the method or pass name ("kfr.sigma", "taa.alpha").
+std::string settings_for(const Config& c, const std::string& method) {
+    std::vector<std::string> keys = c.acuity;
+    for (const auto& kv : c.options) {
+        const std::string prefix = kv.substr(0, kv.find('.'));
+        if (prefix == method || std::count(c.post.begin(), c.post.end(), prefix)) keys.push_back(kv);
+    }
+    keys.push_back("post=" + (c.post.empty() ? std::string("none") : join(c.post, "+")));
+    return join(keys, " ");
+}
+
+// Gaze: the scripted trace from two frames before its first saccade after 1 s, so even the
+// quick run's few frames see the fovea jump (the landing point used in flight).
+std::function<vk::GazeState(double)> saccade_window(const vk::EyeDisplay& display) {
+    auto trace = std::make_shared<demo::GazeTrace>(demo::GazeTrace::scripted(30.0, kGazeSeed, display));
+    double start = 1.0;
+    for (const auto& s : trace->samples())
+        if (s.t_s >= 1.0 && s.gaze.in_saccade) {
+            start = s.t_s - 2.0 * kFrameDt;
+            break;
+        }
+    return [trace, start](double t) { return trace->at(start + t); };
+}
+
+}  // namespace
+
+bool apply_acuity_setting(vk::AcuityParams& p, const std::string& key_value) {
+    const auto eq = key_value.find('=');
+    if (eq == std::string::npos) return false;
+    const std::string key = key_value.substr(0, eq), value = key_value.substr(eq + 1);
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !std::isfinite(v)) return false;
+    if (key == "acuity.mar_slope") p.mar_slope = float(v);
+    else if (key == "acuity.mar_omega0") p.mar_omega0 = float(v);
+    else if (key == "acuity.foveal_radius_deg") p.foveal_radius_deg = float(v);
+    else if (key == "acuity.transition_deg") p.transition_deg = float(v);
+    else if (key == "acuity.max_rate") p.max_rate = float(v);
+    else return false;
+    return true;
+}
+
+std::vector<Config> sweep_configs(const SweepOptions& o) {
+    std::vector<std::string> all;
+    for (const auto& m : o.methods.empty() ? vk::Foveator::methods() : o.methods)
+        if (m != "full") all.push_back(m);
+    const auto only = [&](std::vector<std::string> wanted) {
+        std::erase_if(wanted, [&](const std::string& m) { return !std::count(all.begin(), all.end(), m); });
+        return wanted;
+    };
+    vk::EyeDisplay desktop = vk::EyeDisplay::desktop_1080p();
+    std::string desktop_name = display_name(desktop, "desktop");
+    if (o.width > 0) {  // tests: a small display with the desktop's field of view
+        desktop = vk::EyeDisplay::from_fov(o.width, o.height, desktop.fov_h_deg, desktop.fov_v_deg);
+        desktop_name = display_name(desktop, "small");
+    }
+    std::vector<Config> c;
+    const auto add = [&](std::string tag, const vk::EyeDisplay& d, const std::string& dname,
+                         std::vector<std::string> acuity, std::vector<std::string> options,
+                         std::vector<std::string> post, std::vector<std::string> methods) {
+        if (methods.empty()) return;
+        options.insert(options.end(), o.extra_options.begin(), o.extra_options.end());
+        c.push_back({std::move(tag), dname, d, std::move(acuity), std::move(options),
+                     std::move(post), std::move(methods)});
+    };
+    add("default", desktop, desktop_name, {}, {}, {}, all);
+    add("taa", desktop, desktop_name, {}, {}, {"taa"}, all);
+    if (o.quick) return c;
+    add("taa+contrast", desktop, desktop_name, {}, {}, {"taa", "contrast"}, all);
+    add("m=0.034", desktop, desktop_name, {"acuity.mar_slope=0.034"}, {}, {}, only({"cps", "layers"}));
+    add("fovea 7.5deg", desktop, desktop_name, {"acuity.foveal_radius_deg=7.5"}, {}, {}, only({"cps"}));
+    add("gentle rate", desktop, desktop_name, {"acuity.transition_deg=10", "acuity.max_rate=2"}, {},
+        {}, only({"cps"}));
+    add("sweep A", desktop, desktop_name, {},
+        {"kfr.sigma=1.6", "kfr.alpha=3", "adaptive.omega_p=0.05", "layers.count=2"}, {},
+        only({"kfr", "adaptive", "layers"}));
+    add("sweep B", desktop, desktop_name, {},
+        {"kfr.sigma=2.2", "kfr.alpha=5", "adaptive.omega_p=0.01", "layers.half_rate=1"}, {},
+        only({"kfr", "adaptive", "layers"}));
+    if (o.hmd && o.width == 0) {
+        const vk::EyeDisplay hmd = vk::EyeDisplay::hmd_eye();
+        const std::string hmd_name = display_name(hmd, "hmd-eye");
+        add("default", hmd, hmd_name, {}, {}, {}, all);
+        add("taa", hmd, hmd_name, {}, {}, {"taa"}, all);
+    }
+    return c;
+}
+
+Result<std::vector<Row>> run_sweep(
+    const vk::Device& device, const std::vector<Config>& configs, int frames,
+    const std::function<void(int, int, const std::string&)>& progress) {
+    int total = 0, done = 0;
+    for (const auto& c : configs) total += int(c.methods.size() + 1) * frames;
+    std::vector<Row> rows;
+    std::set<std::string> references;  // one full-rate row per display and post chain
+    for (const auto& c : configs) {
+        demo::RunOptions ro;
+        ro.display = c.display;
+        for (const auto& kv : c.acuity)
+            if (!apply_acuity_setting(ro.acuity, kv)) return make_error("bad acuity setting " + kv);
+        ro.methods = c.methods;
+        ro.post_chain = c.post;
+        ro.options = c.options;
+        ro.frames = frames;
+        ro.frame_dt_s = kFrameDt;
+        ro.gaze = saccade_window(c.display);
+        const uint32_t w = c.display.width_px, h = c.display.height_px;
+        const size_t n = c.methods.size() + 1;
+        std::vector<float> motion;
+        std::vector<std::vector<float>> previous(n);
+        std::vector<std::vector<double>> atd(n);
+        std::vector<double> skipped(n, 0.0), reused(n, 0.0);
+        std::vector<std::string> names{"full"};
+        names.insert(names.end(), c.methods.begin(), c.methods.end());
+        ro.on_frame = [&](size_t k, int frame, const vk::Foveator& f, const demo::Rgb8& img) {
+            // "full" renders first in every frame and always fills the full-resolution G-buffer.
+            if (k == 0) motion = decode_rg16f(device.read_image(f.gbuffer()[vk::GBufferImage::kMotion]));
+            std::vector<float> luma = luminance(img.rgb, w, h);
+            if (frame > 0 && !previous[k].empty())
+                atd[k].push_back(temporal_difference(previous[k], luma, motion, w, h));
+            previous[k] = std::move(luma);
+            const vk::FrameStats st = f.stats();
+            skipped[k] += st.skipped_tiles;
+            reused[k] += st.reused_tiles;
+            if (progress) progress(++done, total, c.tag + " " + c.display_name + " " + names[k]);
+        };
+        auto results = demo::run(device, ro);
+        if (!results) return results.error();
+        for (size_t k = 0; k < results->size(); ++k) {
+            const demo::MethodResult& r = (*results)[k];
+            if (k == 0 && !references.insert(c.display_name + "|" + join(c.post, "+")).second) continue;
+            Row row;
+            row.method = r.name;
+            row.tag = c.tag;
+            row.display_name = c.display_name;
+            row.settings = settings_for(c, r.name);
+            row.width = w;
+            row.height = h;
+            row.error = r.error;
+            if (r.error.empty()) {
+                row.frames = int(r.ms.size());
+                row.ms_median = r.ms_median;
+                row.ms_p95 = percentile(r.ms, 95.0);
+                row.method_gpu_ms = r.method_gpu_ms;
+                row.shaded_fraction = r.shaded_fraction;
+                const demo::ErrorFigures& e = r.error_figures;
+                row.psnr_fovea_db = e.psnr_fovea_db;
+                row.psnr_bands_db = e.psnr_bands_db;
+                row.ssim_bands = e.ssim_bands;
+                row.psnr_bands_mean_db = finite_mean({e.psnr_bands_db.begin(), e.psnr_bands_db.end()});
+                row.atd = finite_mean(atd[k]);
+                row.skipped_tiles = row.frames > 0 ? skipped[k] / row.frames : 0.0;
+                row.reused_tiles = row.frames > 0 ? reused[k] / row.frames : 0.0;
+            }
+            rows.push_back(std::move(row));
+        }
+    }
+    return rows;
+}
+
+}  // namespace fovea::bench
