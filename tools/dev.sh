@@ -23,8 +23,9 @@ build_targets() {  # dir, targets...: sanitizer trees build only what their test
 # Executables behind the labels the sanitizer runs select (tests not built are skipped by ctest).
 asan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test test_drivers_sim
     test_drivers_serial test_drivers_gazepoint test_drivers_replay gaze_unit_tests hid_parser_test
-    usb_test record_tests)
-tsan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test)
+    usb_test record_tests frame_latency_test frame_latency_daemon_test)
+tsan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test frame_latency_test
+    frame_latency_daemon_test)
 
 step() { printf '\n== %s ==\n' "$*"; }
 
@@ -47,6 +48,8 @@ run_demo() {
     if "$bin/tools/fovea" --help 2>/dev/null | grep -q '^ *demo'; then
         step "SDK demo: foveated frames on lavapipe from live gaze"
         "$bin/tools/fovea" --instance "$instance" demo --frames "${FOVEA_DEMO_FRAMES:-4}" --out build/demo
+        step "per-hop latency with the demo's render hops (sdk rows)"
+        "$bin/tools/fovea" --instance "$instance" latency --once
     fi
     step "done"
 }

@@ -4,6 +4,8 @@
 
 #include <cerrno>
 
+#include <algorithm>
+#include <array>
 #include <deque>
 #include <map>
 #include <memory>
@@ -68,10 +70,44 @@ record::RecordingInfo recording_info(const Daemon& d) {
     return info;
 }
 
+// The SDK's gaze-age hops (fovea_render_hop in fovea/client.h) beyond record::Hop's pipeline.
+constexpr std::array<const char*, 3> kGazeAgeHops = {"capture_to_frame_begin",
+                                                     "publish_to_frame_begin", "capture_to_present"};
+
+// What one SDK client last reported with latency.report (cumulative since it started).
+struct ClientReport {
+    record::LatencyStats hops;
+    std::array<LatencyHistogram, kGazeAgeHops.size()> gaze_age;
+    uint64_t frames = 0, stale_frames = 0, frames_without_gaze = 0;
+    int64_t stale_threshold_ns = 0;
+
+    static ClientReport parse(const json& req) {
+        if (!req.contains("hops")) throw std::runtime_error("latency.report needs \"hops\"");
+        auto s = record::LatencyStats::from_json(req["hops"]);
+        if (!s) throw std::runtime_error(s.error().message);
+        ClientReport r;
+        r.hops = std::move(s).value();
+        for (std::size_t i = 0; i < kGazeAgeHops.size(); ++i) {
+            if (!req["hops"].contains(kGazeAgeHops[i])) continue;
+            if (auto h = record::histogram_from_json(req["hops"][kGazeAgeHops[i]], r.gaze_age[i]); !h)
+                throw std::runtime_error(std::string(kGazeAgeHops[i]) + ": " + h.error().message);
+        }
+        try {
+            r.frames = req.value("frames", uint64_t{0});
+            r.stale_frames = req.value("stale_frames", uint64_t{0});
+            r.frames_without_gaze = req.value("frames_without_gaze", uint64_t{0});
+            r.stale_threshold_ns = req.value("stale_threshold_ns", int64_t{0});
+        } catch (const json::exception& e) {
+            throw std::runtime_error(std::string("latency.report frame counters: ") + e.what());
+        }
+        return r;
+    }
+};
+
 struct RecordingService {
     Daemon& daemon;
     record::LatencyStats device_hops;
-    std::map<int, record::LatencyStats> clients;  // by peer pid
+    std::map<int, ClientReport> clients;  // by peer pid
     std::unique_ptr<record::Recorder> recorder;
     json last;  // counters of the last finished recording
     std::deque<std::pair<gaze::RawSample, bool>> preroll;  // (raw, predict_landing)
@@ -124,9 +160,7 @@ struct RecordingService {
     }
 
     json report(const json& req, const PeerCredentials& peer) {
-        if (!req.contains("hops")) throw std::runtime_error("latency.report needs \"hops\"");
-        auto s = record::LatencyStats::from_json(req["hops"]);
-        if (!s) throw std::runtime_error(s.error().message);
+        ClientReport r = ClientReport::parse(req);
         if (clients.size() >= kMaxClients && !clients.count(peer.pid)) {
             // forget clients that have exited before refusing anyone
             for (auto it = clients.begin(); it != clients.end();) {
@@ -134,7 +168,7 @@ struct RecordingService {
             }
             if (clients.size() >= kMaxClients) throw std::runtime_error("too many reporting clients");
         }
-        clients[peer.pid] = std::move(s).value();
+        clients[peer.pid] = std::move(r);
         return {{"accepted", true}};
     }
 
@@ -145,10 +179,34 @@ struct RecordingService {
         return j;
     }
 
+    // Every client's hops merged; the gaze-age hops under "gaze_age", the frame counters summed
+    // under "frames" (the stale thresholds are per client: the smallest and largest are shown).
     json status_clients() const {
         record::LatencyStats all;
-        for (const auto& [pid, s] : clients) all.merge(s);
+        std::array<LatencyHistogram, kGazeAgeHops.size()> age;
+        json frames = {{"frames", 0}, {"stale", 0}, {"without_gaze", 0}};
+        int64_t thr_min = 0, thr_max = 0;
+        for (const auto& [pid, c] : clients) {
+            all.merge(c.hops);
+            for (std::size_t i = 0; i < age.size(); ++i) age[i].merge(c.gaze_age[i]);
+            frames["frames"] = frames["frames"].get<uint64_t>() + c.frames;
+            frames["stale"] = frames["stale"].get<uint64_t>() + c.stale_frames;
+            frames["without_gaze"] = frames["without_gaze"].get<uint64_t>() + c.frames_without_gaze;
+            if (c.stale_threshold_ns > 0) {
+                thr_min = thr_min == 0 ? c.stale_threshold_ns : std::min(thr_min, c.stale_threshold_ns);
+                thr_max = std::max(thr_max, c.stale_threshold_ns);
+            }
+        }
         json j = all.to_json(false);
+        json ages = json::object();
+        for (std::size_t i = 0; i < age.size(); ++i)
+            if (age[i].count()) ages[kGazeAgeHops[i]] = record::histogram_to_json(age[i], false);
+        if (!ages.empty()) j["gaze_age"] = ages;
+        if (thr_max > 0) {
+            frames["stale_threshold_ms_min"] = static_cast<double>(thr_min) / 1e6;
+            frames["stale_threshold_ms_max"] = static_cast<double>(thr_max) / 1e6;
+        }
+        j["frames"] = frames;
         j["clients"] = clients.size();
         return j;
     }

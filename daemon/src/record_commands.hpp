@@ -7,11 +7,18 @@
 //   record.stop                              (admin)  stop it; replies with the counters
 //   latency.report {"hops": {...}}                    an SDK client's render-side histograms
 //                                                     (LatencyStats JSON with buckets), kept per
-//                                                     client pid, replacing its previous report
+//                                                     client pid, replacing its previous report;
+//                                                     fovea_frame_latency_report() also sends the
+//                                                     gaze-age hops (capture_to_frame_begin,
+//                                                     publish_to_frame_begin, capture_to_present)
+//                                                     in "hops" and "frames", "stale_frames",
+//                                                     "frames_without_gaze", "stale_threshold_ns"
 //   latency.reset                            (admin)  zero the daemon's histograms
 // Status sections: "latency" (device hops: capture_to_receive, receive_to_processed,
 // processed_to_publish, each {count, negative, p50_us, p90_us, p99_us, p999_us, max_us, min_us,
-// mean_us}), "latency_clients" (the merged client reports, same form) and "recording".
+// mean_us}), "latency_clients" (the merged client reports, same form, plus "gaze_age": {hop:
+// summary}, "frames": {frames, stale, without_gaze, stale_threshold_ms_min/max}, "clients") and
+// "recording".
 #pragma once
 
 namespace fovea::daemon {

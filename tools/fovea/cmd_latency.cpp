@@ -1,7 +1,8 @@
 // fovea latency: per-hop latency table (p50/p90/p99/p99.9/max, counts), refreshing.
 // Device-side hops come from the daemon's `status` ("latency"), render-side hops from what SDK
 // clients reported to the daemon ("latency_clients"); publish -> read is measured here, on
-// every record this command reads from the ring.
+// every record this command reads from the ring. The SDK rows also show the gaze's age at frame
+// begin and at present, and the count of frames rendered with stale gaze.
 #include <unistd.h>
 
 #include <algorithm>
@@ -57,6 +58,27 @@ void print_table(const std::vector<Row>& rows, bool clear, double uptime_s) {
     std::fflush(stdout);
 }
 
+// One line on the SDK clients' frames: how many were rendered with stale gaze.
+void print_frames(const nlohmann::json& clients) {
+    const auto f = clients.value("frames", nlohmann::json::object());
+    const uint64_t frames = f.value("frames", uint64_t{0});
+    if (frames == 0) {
+        std::printf("sdk frames: none reported (%llu clients)\n",
+                    static_cast<unsigned long long>(clients.value("clients", uint64_t{0})));
+    } else {
+        const uint64_t stale = f.value("stale", uint64_t{0});
+        std::printf("sdk frames: %llu from %llu clients, %llu (%.1f%%) with stale gaze (older than "
+                    "%.1f ms at frame begin, or none), %llu without gaze\n",
+                    static_cast<unsigned long long>(frames),
+                    static_cast<unsigned long long>(clients.value("clients", uint64_t{0})),
+                    static_cast<unsigned long long>(stale),
+                    100.0 * static_cast<double>(stale) / static_cast<double>(frames),
+                    f.value("stale_threshold_ms_min", 0.0),
+                    static_cast<unsigned long long>(f.value("without_gaze", uint64_t{0})));
+    }
+    std::fflush(stdout);
+}
+
 nlohmann::json section(const nlohmann::json& reply, const char* key, Hop h) {
     const std::string name(record::hop_name(h));
     if (!reply.contains(key) || !reply[key].contains(name)) return nullptr;
@@ -104,11 +126,19 @@ void run(const Options& o) {
             if (h == Hop::kPublishToRead && j.is_null()) continue;
             rows.push_back({std::string(record::hop_name(h)), "sdk", j});
         }
+        // the gaze's age as the SDK clients' frames saw it (fovea_frame_begin/_presented)
+        const json clients = reply->value("latency_clients", json::object());
+        const json ages = clients.value("gaze_age", json::object());
+        for (const char* name : {"capture_to_frame_begin", "publish_to_frame_begin",
+                                 "capture_to_present"}) {
+            rows.push_back({name, "sdk", ages.contains(name) ? ages[name] : json(nullptr)});
+        }
         if (!reply->contains("latency")) {
             std::fprintf(stderr, "fovea latency: the daemon's status has no \"latency\" section "
                          "(an older fovead?)\n");
         }
         print_table(rows, tty, reply->value("uptime_s", 0.0));
+        print_frames(clients);
     }
 }
 

@@ -102,4 +102,62 @@ private:
     fovea_client* c_ = nullptr;
 };
 
+// Render-side latency hops (fovea_frame_latency in client.h): the host reports frame events,
+// libfovea keeps the per-hop histograms and the stale-gaze counter and reports them to fovead.
+// Times are CLOCK_MONOTONIC ns; 0 means now. Event calls from one thread at a time.
+class FrameLatency {
+public:
+    FrameLatency() { check(fovea_frame_latency_create(&f_)); }
+    FrameLatency(FrameLatency&& o) noexcept : f_(std::exchange(o.f_, nullptr)) {}
+    FrameLatency& operator=(FrameLatency&& o) noexcept {
+        if (this != &o) {
+            fovea_frame_latency_destroy(&f_);
+            f_ = std::exchange(o.f_, nullptr);
+        }
+        return *this;
+    }
+    FrameLatency(const FrameLatency&) = delete;
+    FrameLatency& operator=(const FrameLatency&) = delete;
+    ~FrameLatency() { fovea_frame_latency_destroy(&f_); }
+
+    void set_stale_threshold_ns(int64_t ns) { check(fovea_frame_latency_set_stale_threshold(f_, ns)); }
+    void reset() { fovea_frame_latency_reset(f_); }
+
+    void gaze_read(const fovea_gaze_record& r, int64_t t_ns = 0) {
+        check(fovea_frame_gaze_read(f_, &r, t_ns));
+    }
+    // Begins a frame rendered for `r` (nullptr: no gaze yet); returns the gaze's age at begin in
+    // ns (capture -> begin; what vk::GazeState::age_s should carry), -1 without a record.
+    int64_t frame_begin(const fovea_gaze_record* r, int64_t t_ns = 0) {
+        int64_t age = -1;
+        check(fovea_frame_begin(f_, r, t_ns, &age));
+        return age;
+    }
+    void submitted(int64_t t_ns = 0) { check(fovea_frame_submitted(f_, t_ns)); }
+    void presented(int64_t t_ns = 0) { check(fovea_frame_presented(f_, t_ns)); }
+
+    fovea_hop_stats hop(fovea_render_hop h) const {
+        fovea_hop_stats s{};
+        check(fovea_frame_latency_hop(f_, h, &s));
+        return s;
+    }
+    fovea_frame_counters counters() const {
+        fovea_frame_counters c{};
+        check(fovea_frame_latency_counters(f_, &c));
+        return c;
+    }
+    // Sends the histograms to the instance's fovead (`latency.report`); throws ClientError.
+    void report(const std::string& instance = "default", int32_t timeout_ms = 1000) const {
+        check(fovea_frame_latency_report(f_, instance.c_str(), timeout_ms));
+    }
+
+    fovea_frame_latency* handle() const { return f_; }
+
+private:
+    static void check(int status) {
+        if (status != FOVEA_OK) throw ClientError(status, fovea_last_error());
+    }
+    fovea_frame_latency* f_ = nullptr;
+};
+
 }  // namespace fovea

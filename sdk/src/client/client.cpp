@@ -18,6 +18,7 @@
 #include <new>
 
 #include "../ring/seqlock.hpp"
+#include "last_error.hpp"
 
 using fovea::ring::RingView;
 using fovea::ring::SlotRead;
@@ -32,11 +33,12 @@ struct fovea_client {
     int64_t next_check_ns = 0;
 };
 
+namespace fovea::client_detail {
+
 namespace {
-
 thread_local char g_last_error[256] = "";
+}
 
-int fail(int status, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
 int fail(int status, const char* fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
@@ -44,6 +46,14 @@ int fail(int status, const char* fmt, ...) {
     va_end(ap);
     return status;
 }
+
+const char* last_error() { return g_last_error; }
+
+}  // namespace fovea::client_detail
+
+namespace {
+
+using fovea::client_detail::fail;
 
 int64_t now_ns(clockid_t clock = CLOCK_MONOTONIC) {
     timespec ts{};
@@ -202,7 +212,7 @@ int read_records(fovea_client* c, fovea_stream_kind kind, uint64_t* cursor, void
 
 extern "C" {
 
-const char* fovea_last_error(void) { return g_last_error; }
+const char* fovea_last_error(void) { return fovea::client_detail::last_error(); }
 
 const char* fovea_status_string(int status) {
     switch (status) {
@@ -215,6 +225,7 @@ const char* fovea_status_string(int status) {
         case FOVEA_E_WRITER_RESTARTED: return "FOVEA_E_WRITER_RESTARTED";
         case FOVEA_E_SYSTEM: return "FOVEA_E_SYSTEM";
         case FOVEA_E_WRONG_STREAM: return "FOVEA_E_WRONG_STREAM";
+        case FOVEA_E_REJECTED: return "FOVEA_E_REJECTED";
         default: return "FOVEA_E_UNKNOWN";
     }
 }

@@ -70,6 +70,25 @@ struct ResolvedGaze {
     bool used_landing = false;       // in a saccade with a landing prediction
 };
 
+// The widening rule. margin_deg is subtracted from every pixel's eccentricity before the rate
+// model, so the full-rate disc grows by it:
+//   margin = uncertainty_sigmas * sigma + drift_dps * age_s, clamped to [0, max_margin_deg]
+//   (defaults: 2 sigma, 1 deg/s, 10 deg cap)
+// - sigma: the tracker's 1-sigma error, 0.5 deg from from_record() (the ring carries no
+//   per-sample figure); in a saccade with a landing prediction, the larger of it and the
+//   prediction's sigma. 2 sigma holds ~95 % of a fixation's samples.
+// - age_s: the gaze's age, capture -> frame. Hosts on the SDK take it from fovea_frame_begin()
+//   (fovea/client.h), which measures capture -> frame begin and counts the frame as stale past
+//   its threshold; from_record(record, t) computes the same from the same time t.
+// - Why drift_dps is small: during fixation the eye moves slowly (drift, tremor, microsaccades,
+//   below ~1 deg/s on average), so at the 20-40 ms of latency Albert et al. 2017 found tolerable
+//   the age term adds only 0.02-0.04 deg. Saccades are deliberately NOT covered by widening:
+//   their peak velocities reach ~500 deg/s, so 40 ms of age would need a 20 deg margin, i.e. no
+//   foveation. What hides them is saccadic suppression (vision is degraded for tens of ms around
+//   a saccade, which is why 20-40 ms is tolerable and 80-150 ms is not); during the flight the
+//   landing prediction is the centre. Gaze older than that budget is a latency problem to
+//   measure, not to widen away: fovea_frame_latency counts those frames (stale threshold,
+//   default FOVEA_STALE_GAZE_DEFAULT_NS = 40 ms) and `fovea latency` shows the count.
 // Resolves the gaze for a frame. Non-finite coordinates fall back to the screen centre and set
 // fell_back (the Foveator logs a warning). Off-screen gaze is clamped to 4 screen sizes away.
 ResolvedGaze resolve_gaze(const GazeState& gaze, const EyeDisplay& display,
