@@ -27,6 +27,12 @@ layout(push_constant) uniform Push { uint view; } pc;
 const float kNear = 0.1;
 const float kFar = 400.0;
 
+// The object table, built once per workgroup: demo_object() evaluates the terrain under every
+// object (five transcendentals each), which per pixel cost more than the whole intersection.
+const int kObjects = kGridX * kGridZ;
+shared vec4 s_centre_radius[kObjects];  // xyz centre, w bounding-sphere radius
+shared vec4 s_half_shape[kObjects];     // xyz half size, w shape
+
 vec3 object_albedo(int i) {
     vec3 c[6] = vec3[](vec3(0.8, 0.25, 0.2), vec3(0.2, 0.5, 0.85), vec3(0.85, 0.75, 0.3),
                        vec3(0.3, 0.75, 0.4), vec3(0.75, 0.75, 0.78), vec3(0.6, 0.35, 0.7));
@@ -35,6 +41,16 @@ vec3 object_albedo(int i) {
 
 void main() {
     DemoView v = demo_views.views[pc.view];
+    int scene = int(v.fwd.w + 0.5);
+    int local = int(gl_LocalInvocationIndex);
+    if (local < kObjects) {
+        vec3 c, hs;
+        int shape;
+        demo_object(local, c, hs, shape);
+        s_centre_radius[local] = vec4(c, length(hs));
+        s_half_shape[local] = vec4(hs, float(shape));
+    }
+    barrier();
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     vec2 size = v.jitter.zw;
     if (p.x >= int(size.x) || p.y >= int(size.y)) return;
@@ -43,7 +59,6 @@ void main() {
     vec3 ro = v.pos.xyz;
     vec3 rd = normalize(v.fwd.xyz + v.right.xyz * ((2.0 * full.x - 1.0) * v.right.w) +
                         v.up.xyz * ((1.0 - 2.0 * full.y) * v.up.w));
-    int scene = int(v.fwd.w + 0.5);
 
     float t = -1.0;
     vec3 n = vec3(0.0, 1.0, 0.0);
@@ -51,22 +66,30 @@ void main() {
     vec4 material = vec4(0.0);
     if (scene == kDemoScene) {
         float best = kFar;
-        for (int i = 0; i < kGridX * kGridZ; ++i) {
-            vec3 c, hs, on;
-            int shape;
-            demo_object(i, c, hs, shape);
-            float ti = demo_intersect_object(shape, c, hs, ro, rd, on);
+        for (int i = 0; i < kObjects; ++i) {
+            // Bounding-sphere rejection first: a few multiply-adds instead of the exact test.
+            vec3 oc = s_centre_radius[i].xyz - ro;
+            float r = s_centre_radius[i].w;
+            float along = dot(oc, rd);
+            if (along + r <= 0.0 || along - r >= best || dot(oc, oc) - along * along > r * r)
+                continue;
+            vec3 on;
+            float ti = demo_intersect_object(int(s_half_shape[i].w), s_centre_radius[i].xyz,
+                                             s_half_shape[i].xyz, ro, rd, on);
             if (ti > 0.0 && ti < best) {
                 best = ti;
                 t = ti;
                 n = on;
                 albedo = object_albedo(i);
-                material = vec4(float(2 + shape), 0.15 + 0.2 * float(i % 4), float(i % 3 == 0),
+                material = vec4(2.0 + s_half_shape[i].w, 0.15 + 0.2 * float(i % 4), float(i % 3 == 0),
                                 float(i));
             }
         }
         // Terrain: march the height field up to the nearest object, refine by bisection.
-        float tt = kNear, prev = kNear;
+        // Start where the ray enters the slab below the terrain's highest point (1.17).
+        float tt = kNear;
+        if (ro.y > 1.25 && rd.y < 0.0) tt = max(kNear, (ro.y - 1.25) / -rd.y);
+        float prev = tt;
         bool hit = false;
         for (int s = 0; s < 64 && tt < best; ++s) {
             vec3 q = ro + tt * rd;

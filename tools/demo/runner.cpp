@@ -38,7 +38,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
     for (const auto& m : o.methods)
         if (m != "full") names.push_back(m);
     std::vector<MethodResult> results(names.size());
-    std::vector<std::vector<double>> gpu_ms(names.size());
+    std::vector<std::vector<double>> gpu_ms(names.size()), gbuffer_ms(names.size());
     std::vector<int> compared(names.size(), 0);
     for (size_t k = 0; k < names.size(); ++k) {
         results[k].name = names[k];
@@ -90,6 +90,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
             resolved = st.gaze;
             r.ms.push_back(ms);
             gpu_ms[k].push_back(st.method_gpu_ms);
+            gbuffer_ms[k].push_back(scene.gpu_ms());
             r.shaded_fraction += st.shaded_fraction / o.frames;
             r.skipped_tiles += static_cast<double>(st.skipped_tiles) / o.frames;
             r.reused_tiles += static_cast<double>(st.reused_tiles) / o.frames;
@@ -114,10 +115,10 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
                                    "_reference.png", img);
             }
             char buf[224];
-            std::snprintf(buf, sizeof(buf),
-                          " %s %.0f ms %.1f%% fovea %.1f dB skipped %u reused %u |",
-                          names[k].c_str(), ms, 100.0 * st.shaded_fraction, e.psnr_fovea_db,
-                          st.skipped_tiles, st.reused_tiles);
+            std::snprintf(buf, sizeof(buf), " %s %.0f ms (G-buffer %.0f, method %.0f) %.1f%% fovea "
+                          "%.1f dB skipped %u reused %u |", names[k].c_str(), ms,
+                          gbuffer_ms[k].back(), st.method_gpu_ms, 100.0 * st.shaded_fraction,
+                          e.psnr_fovea_db, st.skipped_tiles, st.reused_tiles);
             line += buf;
         }
         if (o.progress && i >= 0) {
@@ -133,6 +134,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
         if (!r.error.empty() || compared[k] == 0) continue;
         r.ms_median = median(r.ms);
         r.method_gpu_ms = median(gpu_ms[k]);
+        r.gbuffer_gpu_ms = median(gbuffer_ms[k]);
         ErrorFigures& acc = r.error_figures;
         acc.psnr_fovea_db /= compared[k];
         for (int b = 0; b < vk::kBandCount; ++b) {

@@ -1,5 +1,7 @@
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "fovea/demo/demo.hpp"
 #include "shaders.hpp"
@@ -70,9 +72,32 @@ SceneRenderer::SceneRenderer(const vk::Device& device)
     const vk::Binding b[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, img, img, img, img, img, img};
     pipeline_ = vk::ComputePipeline(device, vk::shader_spirv("demo_gbuffer.comp"), VK_NULL_HANDLE,
                                     b, 4);
+    if (device.properties().limits.timestampComputeAndGraphics) {
+        VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qi.queryCount = 2 * kSlots;
+        VK_CHECK(vkCreateQueryPool(device.device(), &qi, nullptr, &queries_));
+    }
+}
+
+SceneRenderer::~SceneRenderer() {
+    if (queries_) vkDestroyQueryPool(device_->device(), queries_, nullptr);
 }
 
 void SceneRenderer::begin_frame() { slot_ = 0; }
+
+double SceneRenderer::gpu_ms() const {
+    const uint32_t views = std::min(slot_, kSlots);
+    if (!queries_ || views == 0) return 0.0;
+    std::vector<uint64_t> ts(2 * views);
+    if (vkGetQueryPoolResults(device_->device(), queries_, 0, 2 * views,
+                              ts.size() * sizeof(uint64_t), ts.data(), sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+        return 0.0;
+    uint64_t ticks = 0;
+    for (uint32_t i = 0; i < views; ++i) ticks += ts[2 * i + 1] - ts[2 * i];
+    return static_cast<double>(ticks) * device_->properties().limits.timestampPeriod * 1e-6;
+}
 
 void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneKind scene,
                            const Camera& cam, const Camera& prev, double time_s,
@@ -104,8 +129,14 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
         w.commit();
         it = sets_.emplace(key, set).first;
     }
+    if (queries_) {
+        if (slot == 0) vkCmdResetQueryPool(cmd, queries_, 0, 2 * kSlots);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * slot);
+    }
     pipeline_.bind(cmd, VK_NULL_HANDLE, it->second, &slot, sizeof(slot));
     vkCmdDispatch(cmd, vk::div_up(g.extent.width, 8), vk::div_up(g.extent.height, 8), 1);
+    if (queries_)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, 2 * slot + 1);
     vk::compute_barrier(cmd);
 }
 

@@ -35,6 +35,9 @@ std::string shading_glsl();
 class SceneRenderer {
 public:
     explicit SceneRenderer(const vk::Device& device);
+    SceneRenderer(const SceneRenderer&) = delete;
+    SceneRenderer& operator=(const SceneRenderer&) = delete;
+    ~SceneRenderer();
     void begin_frame();  // before recording a frame's views (slots are reused per frame)
     // Ray-casts the crop of the view (0..1 of the full frame) into `gbuffer`, with jitter in
     // pixels of the gbuffer. prev: the previous frame's camera, for motion vectors.
@@ -42,9 +45,13 @@ public:
                 const Camera& cam, const Camera& prev, double time_s,
                 std::array<float, 4> crop = {0.f, 0.f, 1.f, 1.f},
                 std::array<float, 2> jitter = {0.f, 0.f});
+    // GPU milliseconds of the last completed frame's G-buffer passes (all views; timestamps,
+    // 0 where the device has none). Call after the frame's submission finished.
+    double gpu_ms() const;
 
 private:
     const vk::Device* device_;
+    VkQueryPool queries_ = VK_NULL_HANDLE;  // a begin/end timestamp pair per view slot
     vk::Buffer views_;
     vk::ComputePipeline pipeline_;
     std::map<VkImageView, VkDescriptorSet> sets_;
@@ -117,6 +124,7 @@ struct MethodResult {
     double method_gpu_ms = 0.0;   // median GPU time of the method's passes
     double skipped_tiles = 0.0;   // mean per frame: tiles without a host shading call (cps)
     double reused_tiles = 0.0;    // mean per frame: of which last frame's shading kept (cps)
+    double gbuffer_gpu_ms = 0.0;  // median GPU time of the host's G-buffer passes (all views)
     ErrorFigures error_figures;   // mean over frames (PSNR averaged in dB)
 };
 Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions& options);
