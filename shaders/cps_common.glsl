@@ -24,8 +24,10 @@ layout(std430, set = 1, binding = 4) buffer CpsLuminance { uvec2 range[]; } cps_
 
 void cps_add_luminance(uint tile, vec3 c) {
     uint l = floatBitsToUint(max(dot(c, vec3(0.2126, 0.7152, 0.0722)), 0.0));
-    atomicMin(cps_luminance.range[tile].x, l);
-    atomicMax(cps_luminance.range[tile].y, l);
+    // A plain read first: most samples change neither bound, and atomics are the cost.
+    uvec2 r = cps_luminance.range[tile];
+    if (l < r.x) atomicMin(cps_luminance.range[tile].x, l);
+    if (l > r.y) atomicMax(cps_luminance.range[tile].y, l);
 }
 
 // Classification flags (CpsPush.flags), set on the CPU per frame.
