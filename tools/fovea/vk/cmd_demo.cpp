@@ -2,6 +2,8 @@
 // method and the full-rate reference of the same frames, gaze from the running fovead (ring) or
 // --trace FILE (else a scripted trace with saccades). Writes PNGs of the foveated frame, the
 // reference and the rate map, prints time per frame, shaded fraction and error figures.
+// With live gaze it reports its render-side latency hops to fovead (fovea_frame_latency) at the
+// end and every second, so `fovea latency` shows them next to the device hops.
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -34,6 +36,73 @@ int64_t now_ns() {
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return int64_t{ts.tv_sec} * 1000000000 + ts.tv_nsec;
 }
+
+// The live-gaze demo's frame events for the SDK's render hops. The demo renders blocking and
+// headless, so the events it can observe are:
+//   read + frame begin: the runner asks for frame i's gaze; the newest record is read and the
+//                       frame starts with it (read -> frame begin is therefore < 1 us here);
+//   submitted:          the foveated method's blocking render returned (vkQueueSubmit plus the
+//                       fence wait: the blocking path exposes no earlier moment; the interval
+//                       includes the full-rate reference rendered first for comparison);
+//   presented:          the frame's PNGs are written (headless: the frame is ready to show).
+// The gaze's age at frame begin, measured by the SDK, is the age the fovea is widened by.
+class DemoLatency {
+public:
+    DemoLatency(std::shared_ptr<Client> client, std::string instance, size_t foveated_method)
+        : client_(std::move(client)), instance_(std::move(instance)), method_(foveated_method) {}
+
+    vk::GazeState frame_gaze() {
+        const auto r = client_->latest();
+        if (r) hops_.gaze_read(*r, now_ns());
+        const int64_t t = now_ns();
+        const int64_t age_ns = hops_.frame_begin(r ? &*r : nullptr, t);
+        open_ = true;
+        if (!r) return vk::GazeState{};
+        vk::GazeState g = vk::GazeState::from_record(*r, t);
+        g.age_s = static_cast<float>(static_cast<double>(age_ns) * 1e-9);
+        return g;
+    }
+    void rendered(size_t method) {
+        if (method == method_ && open_) hops_.submitted();
+        submitted_ = method == method_ && open_;
+    }
+    void shown() {
+        if (submitted_) hops_.presented();
+        submitted_ = open_ = false;
+        if (now_ns() - last_report_ns_ >= 1'000'000'000) report();
+    }
+    void report() {
+        last_report_ns_ = now_ns();
+        try {
+            hops_.report(instance_, 1000);
+        } catch (const ClientError& e) {
+            if (!warned_) std::fprintf(stderr, "fovea demo: latency report: %s\n", e.what());
+            warned_ = true;
+        }
+    }
+    void print() const {
+        const auto c = hops_.counters();
+        std::printf("render hops (sdk, us)        count      p50      p99      max\n");
+        for (int h = 0; h < FOVEA_RENDER_HOP_COUNT; ++h) {
+            const auto s = hops_.hop(static_cast<fovea_render_hop>(h));
+            if (s.count == 0) continue;
+            std::printf("%-24s %9llu %8.1f %8.1f %8.1f\n", fovea_render_hop_name(h),
+                        static_cast<unsigned long long>(s.count), s.p50_ns / 1e3, s.p99_ns / 1e3,
+                        s.max_ns / 1e3);
+        }
+        std::printf("frames %llu, stale gaze (> %.0f ms at frame begin, or none) %llu\n",
+                    static_cast<unsigned long long>(c.frames), c.stale_threshold_ns / 1e6,
+                    static_cast<unsigned long long>(c.stale_frames));
+    }
+
+private:
+    std::shared_ptr<Client> client_;
+    std::string instance_;
+    size_t method_;
+    FrameLatency hops_;
+    bool open_ = false, submitted_ = false, warned_ = false;
+    int64_t last_report_ns_ = now_ns();
+};
 
 void print_results(const std::vector<demo::MethodResult>& results, const char* label) {
     const double full_ms = results[0].ms_median;
@@ -77,7 +146,11 @@ int run_demo(const DemoOptions& o) {
     ro.scene = o.scene == "zoneplate" ? demo::SceneKind::kZonePlate
                : o.scene == "grating" ? demo::SceneKind::kGrating
                                       : demo::SceneKind::kDemo;
-    ro.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    std::shared_ptr<DemoLatency> latency;
+    ro.progress = [&latency](const std::string& line) {
+        std::fprintf(stderr, "%s\n", line.c_str());
+        if (latency) latency->shown();  // called once the frame's PNGs are written
+    };
 
     // Gaze: --trace, else the live ring of a running fovead, else the scripted trace.
     std::shared_ptr<demo::GazeTrace> trace;
@@ -97,10 +170,13 @@ int run_demo(const DemoOptions& o) {
     } else {
         try {
             client = std::make_shared<Client>(global_options().instance);
-            ro.gaze = [client](double) {
-                const auto r = client->latest();
-                if (!r) return vk::GazeState{};
-                return vk::GazeState::from_record(*r, now_ns());
+            // the runner renders "full" first, then the foveated method (index 1 unless it is
+            // "full" itself)
+            latency = std::make_shared<DemoLatency>(client, global_options().instance,
+                                                    o.method == "full" ? 0 : 1);
+            ro.gaze = [latency](double) { return latency->frame_gaze(); };
+            ro.on_frame = [latency](size_t method, int, const vk::Foveator&, const demo::Rgb8&) {
+                latency->rendered(method);
             };
             std::fprintf(stderr, "gaze: live from fovead instance '%s'\n",
                          global_options().instance.c_str());
@@ -135,6 +211,10 @@ int run_demo(const DemoOptions& o) {
         }
         print_results(*r, p.label);
         if (!(*r)[1].error.empty()) return 1;
+    }
+    if (latency) {
+        latency->report();
+        latency->print();
     }
     std::printf("PNGs in %s/ (<prefix>_<frame>_<method>.png, _reference.png, _<method>_rate.png)\n",
                 o.out.c_str());
