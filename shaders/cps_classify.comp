@@ -1,5 +1,5 @@
 #version 450
-// Coarse pixel shading, pass 1: one workgroup per tile (acuity.tile_size, 16x16 by default)
+// Coarse pixel shading, pass 1: one thread per tile (acuity.tile_size, 16x16 by default)
 // decides, before anything is shaded, what the tile needs this frame, appends it to one
 // compacted list and grows that list's indirect dispatch so the later passes launch exactly one
 // thread per coarse pixel of the listed tiles; a tile in no list costs no thread.
@@ -40,57 +40,37 @@ layout(std430, set = 1, binding = 5) buffer CpsTileState { uvec4 s[]; } cps_stat
 layout(std430, set = 1, binding = 6) buffer CpsNoDetail { uint flag[]; } cps_no_detail;
 
 const uint kValid = 16u, kAtAcuity = 32u, kBackground = 64u;
-const uint kCpsReused = 3u;  // s_class of a reused tile
-
-shared float s_sum[64];
-shared uint s_class;
-
-// Sum (max_op false) or maximum of every thread's v over the workgroup, in all threads.
-float workgroup_reduce(float v, bool max_op) {
-    uint t = gl_LocalInvocationIndex;
-    s_sum[t] = v;
-    barrier();
-    for (uint half_n = 32u; half_n > 0u; half_n >>= 1u) {
-        if (t < half_n)
-            s_sum[t] = max_op ? max(s_sum[t], s_sum[t + half_n]) : s_sum[t] + s_sum[t + half_n];
-        barrier();
-    }
-    float r = s_sum[0];
-    barrier();
-    return r;
-}
 
 void main() {
-    uint tx = gl_WorkGroupID.x;  // dispatched as tiles_x x tiles_y workgroups
-    uint ty = gl_WorkGroupID.y;
-    uint tile = ty * cps_push.tiles_x + tx;
-    uint t = gl_LocalInvocationIndex;
+    uint tile = gl_GlobalInvocationID.x;  // one thread per tile: no barriers (costly on a CPU)
+    if (tile >= cps_push.tiles_x * cps_push.tiles_y) return;
+    uint tx = tile % cps_push.tiles_x;
+    uint ty = tile / cps_push.tiles_x;
     int ts = int(fovea_frame.acuity.tile_size);
     ivec2 lo = ivec2(int(tx), int(ty)) * ts;
     ivec2 hi = min(lo + ivec2(ts), ivec2(fovea_frame.extent));
-    ivec2 size = hi - lo;
-    int n = size.x * size.y;
     bool skip = (cps_push.flags & kCpsSkip) != 0u;
     // Image loads dominate this pass on a CPU device: each image is read only when its answer
     // can change the tile's class (motion: reuse possible; position: not reused and the host
-    // has fovea_background()).
+    // has fovea_background()), and each loop stops at the first pixel that decides.
 
-    // 1. Largest motion. A still pixel's motion is -jitter (the jittered sample against the
-    // previous unjittered view) or 0 (hosts that leave the jitter out, as the demo does for the
-    // sky): the smaller of the two counts.
-    bool need_motion = skip && (cps_push.flags & kCpsReuse) != 0u &&
-                       (cps_push.flags & (kCpsHistory | kCpsCameraStill)) ==
-                           (kCpsHistory | kCpsCameraStill);
-    float motion = 3.0e38;
-    if (need_motion) {
-        motion = 0.0;
-        for (int k = int(t); k < n; k += 64) {
-            vec2 m = imageLoad(fovea_g_motion, lo + ivec2(k % size.x, k / size.x)).xy;
+    // 1. Still: no pixel moves. A still pixel's motion is -jitter (the jittered sample against
+    // the previous unjittered view) or 0 (hosts that leave the jitter out, as the demo does for
+    // the sky): the smaller of the two counts.
+    bool may_reuse = skip && (cps_push.flags & kCpsReuse) != 0u &&
+                     (cps_push.flags & (kCpsHistory | kCpsCameraStill)) ==
+                         (kCpsHistory | kCpsCameraStill);
+    bool motionless = may_reuse;
+    for (int y = lo.y; y < hi.y && motionless; ++y) {
+        for (int x = lo.x; x < hi.x; ++x) {
+            vec2 m = imageLoad(fovea_g_motion, ivec2(x, y)).xy;
             vec2 mj = abs(m + fovea_frame.jitter_px);
             m = abs(m);
-            motion = max(motion, min(max(m.x, m.y), max(mj.x, mj.y)));
+            if (min(max(m.x, m.y), max(mj.x, mj.y)) > cps_push.still_px) {
+                motionless = false;
+                break;
+            }
         }
-        motion = workgroup_reduce(motion, true);
     }
 
     // 2. Reuse, from the motion and the tile's stored state.
@@ -101,69 +81,67 @@ void main() {
                                        fovea_frame.gaze_px);
     uvec4 st = cps_state.s[tile];
     bool history = skip && (cps_push.flags & kCpsHistory) != 0u && (st.x & kValid) != 0u;
-    bool still = history && (cps_push.flags & kCpsCameraStill) != 0u &&
-                 motion <= cps_push.still_px && ((st.x >> 2) & 3u) == acuity;
+    bool still = history && motionless && ((st.x >> 2) & 3u) == acuity;
     bool refresh = cps_push.refresh_frames > 0u &&
                    (cps_push.frame + tile * 7919u) % cps_push.refresh_frames == 0u;
-    bool reused = (cps_push.flags & kCpsReuse) != 0u && still && !refresh &&
-                  st.y >= cps_push.converge_frames &&
+    bool reused = still && !refresh && st.y >= cps_push.converge_frames &&
                   abs(uintBitsToFloat(st.z) - ecc) < cps_push.ecc_deg;
 
     // 3. Background: no pixel with geometry (a reused tile keeps what it was).
     bool background = reused && (st.x & kBackground) != 0u;
     if (!reused && skip && (cps_push.flags & kCpsHostBackground) != 0u) {
-        float geometry = 0.0;
-        for (int k = int(t); k < n; k += 64)
-            if (imageLoad(fovea_g_position, lo + ivec2(k % size.x, k / size.x)).w > 0.0)
-                geometry += 1.0;
-        background = workgroup_reduce(geometry, false) == 0.0;
+        background = true;
+        for (int y = lo.y; y < hi.y && background; ++y) {
+            for (int x = lo.x; x < hi.x; ++x) {
+                if (imageLoad(fovea_g_position, ivec2(x, y)).w > 0.0) {
+                    background = false;
+                    break;
+                }
+            }
+        }
     }
 
-    if (t == 0u) {
-        bool is_flat = false;
-        if (history && (st.x & kAtAcuity) != 0u) {
-            float lmin = uintBitsToFloat(cps_luminance.range[tile].x);
-            float lmax = uintBitsToFloat(cps_luminance.range[tile].y);
-            is_flat = lmax - lmin <= cps_push.flat_contrast * (lmax + lmin) ||
-                      lmin >= cps_push.saturated;
-        }
-        cps_no_detail.flag[tile] = (background || is_flat) ? 1u : 0u;
-        if (background || is_flat) atomicAdd(fovea_stats.no_detail_tiles, 1u);
+    bool is_flat = false;
+    if (history && (st.x & kAtAcuity) != 0u) {
+        float lmin = uintBitsToFloat(cps_luminance.range[tile].x);
+        float lmax = uintBitsToFloat(cps_luminance.range[tile].y);
+        is_flat = lmax - lmin <= cps_push.flat_contrast * (lmax + lmin) ||
+                  lmin >= cps_push.saturated;
+    }
+    cps_no_detail.flag[tile] = (background || is_flat) ? 1u : 0u;
+    if (background || is_flat) atomicAdd(fovea_stats.no_detail_tiles, 1u);
 
-        if (reused) {
-            s_class = kCpsReused;  // no list: the stored shading and S_t stay
-            atomicAdd(fovea_stats.reused_tiles, 1u);
+    uint used;
+    if (reused) {
+        used = st.x & 3u;  // no list: the stored shading and S_t stay
+        atomicAdd(fovea_stats.reused_tiles, 1u);
+        atomicAdd(fovea_stats.tiles[3], 1u);
+    } else {
+        uint cls = is_flat ? 2u : acuity;
+        bool env = background && (cps_push.flags & kCpsHostBackground) != 0u;
+        uint list = env ? kCpsBackgroundList + cls : cls;
+        uint slot = atomicAdd(cps_args.count[list], 1u);
+        cps_lists.tile[cps_list_base(list) * cps_push.capacity + slot] = tile;
+        uint side = uint(ts) >> cls;
+        atomicMax(cps_args.cmd[list].x, ((slot + 1u) * side * side + 63u) / 64u);
+        if (env) {
+            atomicAdd(fovea_stats.background_tiles, 1u);
             atomicAdd(fovea_stats.tiles[3], 1u);
         } else {
-            uint cls = is_flat ? 2u : acuity;
-            bool env = background && (cps_push.flags & kCpsHostBackground) != 0u;
-            uint list = env ? kCpsBackgroundList + cls : cls;
-            uint slot = atomicAdd(cps_args.count[list], 1u);
-            cps_lists.tile[cps_list_base(list) * cps_push.capacity + slot] = tile;
-            uint side = uint(ts) >> cls;
-            atomicMax(cps_args.cmd[list].x, ((slot + 1u) * side * side + 63u) / 64u);
-            if (env) {
-                atomicAdd(fovea_stats.background_tiles, 1u);
-                atomicAdd(fovea_stats.tiles[3], 1u);
-            } else {
-                atomicAdd(fovea_stats.tiles[cls], 1u);
-            }
-            if (is_flat && acuity != 2u) atomicAdd(fovea_stats.flat_tiles, 1u);
-            uint count = still ? min(st.y + 1u, 255u) : 1u;
-            cps_state.s[tile] = uvec4(cls | (acuity << 2) | kValid |
-                                          (cls == acuity ? kAtAcuity : 0u) |
-                                          (background ? kBackground : 0u),
-                                      count, floatBitsToUint(ecc), 0u);
-            cps_luminance.range[tile] = uvec2(0x7f800000u, 0u);  // +inf, 0: the passes fill it
-            s_class = cls;
+            atomicAdd(fovea_stats.tiles[cls], 1u);
         }
-        uint used = reused ? st.x & 3u : s_class;
-        imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)),
-                   uvec4(used == acuity ? uint(r) : (1u << used)));
+        if (is_flat && acuity != 2u) atomicAdd(fovea_stats.flat_tiles, 1u);
+        uint count = still ? min(st.y + 1u, 255u) : 1u;
+        cps_state.s[tile] = uvec4(cls | (acuity << 2) | kValid |
+                                      (cls == acuity ? kAtAcuity : 0u) |
+                                      (background ? kBackground : 0u),
+                                  count, floatBitsToUint(ecc), 0u);
+        cps_luminance.range[tile] = uvec2(0x7f800000u, 0u);  // +inf, 0: the passes fill it
+        used = cls;
+        float s = fovea_normalized_rate(float(1u << cls));
+        for (int y = lo.y; y < hi.y; ++y)
+            for (int x = lo.x; x < hi.x; ++x) imageStore(cps_rate, ivec2(x, y), vec4(s));
     }
-    if (reused) return;  // uniform per workgroup: its S_t stays in cps_rate from its shading
-    barrier();
-    float s = fovea_normalized_rate(float(1u << s_class));
-    for (int k = int(t); k < n; k += 64)
-        imageStore(cps_rate, lo + ivec2(k % size.x, k / size.x), vec4(s));
+    imageStore(cps_rate_tiles, ivec2(int(tx), int(ty)),
+               uvec4(used == acuity ? uint(r) : (1u << used)));
 }

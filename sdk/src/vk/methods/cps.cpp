@@ -167,7 +167,7 @@ public:
                      (background_.get() ? kHostBackground : 0u) | (reuse_ ? kReuse : 0u);
         const uint32_t phase = static_cast<uint32_t>(f.frame_index % phases_);
         classify_.bind(f.cmd, f.frame_set, classify_set_, &push, sizeof(push));
-        vkCmdDispatch(f.cmd, tiles_x_, tiles_y_, 1);  // one workgroup per tile
+        vkCmdDispatch(f.cmd, div_up(capacity_, 64), 1, 1);  // one thread per tile
         indirect_barrier(f.cmd);
         for (uint32_t list = 0; list < 3; ++list) {
             push.list = list;
