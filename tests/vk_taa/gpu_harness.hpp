@@ -19,37 +19,8 @@
 
 namespace fovea::vk::testing {
 
-inline uint16_t float_to_half(float f) {
-    const float r = post::round_to_half(f);
-    uint32_t b;
-    std::memcpy(&b, &r, 4);
-    const uint32_t sign = (b >> 16) & 0x8000u;
-    const uint32_t exp = (b >> 23) & 0xffu;
-    const uint32_t man = b & 0x7fffffu;
-    if (exp == 0xff) return uint16_t(sign | 0x7c00u | (man ? 0x200u : 0u));
-    const int e = int(exp) - 127 + 15;
-    if (e >= 31) return uint16_t(sign | 0x7c00u);
-    if (e <= 0) {  // subnormal (r is already rounded to the half grid)
-        const float a = std::fabs(r) * 16777216.0f;
-        return uint16_t(sign | uint32_t(a));
-    }
-    return uint16_t(sign | uint32_t(e) << 10 | man >> 13);
-}
-
-inline float half_to_float(uint16_t h) {
-    const uint32_t sign = (h & 0x8000u) << 16;
-    const uint32_t exp = (h >> 10) & 0x1fu;
-    const uint32_t man = h & 0x3ffu;
-    float f;
-    if (exp == 0) {
-        f = float(man) / 16777216.0f;
-        return sign ? -f : f;
-    }
-    uint32_t b = exp == 31 ? (sign | 0x7f800000u | man << 13)
-                           : (sign | (exp - 15 + 127) << 23 | man << 13);
-    std::memcpy(&f, &b, 4);
-    return f;
-}
+inline uint16_t float_to_half(float f) { return post::half_bits(f); }
+inline float half_to_float(uint16_t h) { return post::half_from_bits(h); }
 
 inline int format_channels(VkFormat f) {
     switch (f) {

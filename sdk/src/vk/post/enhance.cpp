@@ -3,6 +3,7 @@
 // contrast_enhance() in enhance_model.cpp. Options: contrast.blur_rate (arcmin/deg, 0.34),
 // contrast.fe (overrides the table). Called on the host's render thread (PostPass contract).
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <tuple>
 
@@ -32,9 +33,13 @@ public:
             "contrast.fe", post::calibration_for_blur_rate(float(rate)).f_e));
         if (!(push_.f_e >= 0.0f && push_.f_e < 10.0f))
             return make_error("contrast.fe must be in [0, 10)");
+        // Only the levels I_avg can read: S_t <= 1 bounds σ and so LOD = log2(1 + √2σ) (< 1.4).
+        const float max_lod = post::blur_lod(post::blur_sigma_for_rate(1.0f));
+        const uint32_t needed =
+            std::min(kMaxPyramidLevels, uint32_t(std::ceil(max_lod)) + 1);
         uint32_t levels = 1;
         for (uint32_t w = ctx.extent.width, h = ctx.extent.height;
-             levels < kMaxPyramidLevels && (w > 1 || h > 1); ++levels) {
+             levels < needed && (w > 1 || h > 1); ++levels) {
             w = std::max(1u, w / 2);
             h = std::max(1u, h / 2);
         }

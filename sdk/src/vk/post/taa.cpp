@@ -1,5 +1,5 @@
 // Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as three
-// compute passes (moments, moment mip chain, resolve). The CPU reference is taa_model.cpp; the
+// compute stages (moments with mip level 1 fused in, the rest of the moment mip chain, resolve). The CPU reference is taa_model.cpp; the
 // shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
 // taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
 // taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
@@ -73,13 +73,14 @@ public:
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-        const Binding mom_b[] = {img, img, img};
+        const Binding mom_b[] = {img, img, img, img, img};
         const Binding red_b[] = {img, img, img, img};
         const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, img};
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
         resolve_ = ctx.builtin_pipeline("taa_resolve" + suffix, res_b, sizeof(ResolvePush), false);
-        for (uint32_t l = 0; l + 1 < levels; ++l) {
+        // Level 1 comes from the moments pass; level 1 -> 2 onwards are reductions.
+        for (uint32_t l = 1; l + 1 < levels; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();
             DescriptorWriter(device_, s)
                 .storage_image(0, m1_.mip_view(l))
@@ -104,14 +105,17 @@ public:
                 .storage_image(0, f.color_in.view)
                 .storage_image(1, m1_.mip_view(0))
                 .storage_image(2, m2_.mip_view(0))
+                .storage_image(3, m1_.mip_view(std::min(1u, m1_.mip_levels() - 1)))
+                .storage_image(4, m2_.mip_view(std::min(1u, m2_.mip_levels() - 1)))
                 .commit();
             mit = moment_sets_.emplace(f.color_in.view, s).first;
         }
         moments_.bind(f.cmd, VK_NULL_HANDLE, mit->second);
         vkCmdDispatch(f.cmd, gx, gy, 1);
         compute_barrier(f.cmd);
-        for (uint32_t l = 0; l < reduce_sets_.size(); ++l) {
-            reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[l]);
+        for (uint32_t i = 0; i < reduce_sets_.size(); ++i) {
+            const uint32_t l = i + 1;  // source level
+            reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[i]);
             vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)) + 1, 8),
                           div_up(std::max(1u, e.height >> (l + 1)) + 1, 8), 1);
             compute_barrier(f.cmd);
