@@ -9,9 +9,10 @@ namespace fovea::gaze {
 namespace {
 
 // A minimum-jerk saccade on the main sequence the predictor assumes, with noise: from its
-// first half the landing point must be within 10 % of the amplitude (the deceleration
-// estimate assumes a linear slow-down, not minimum jerk, so it is not exact here) and far
-// closer than the current position (half the amplitude away).
+// first half the landing point must be within 15 % of the amplitude, far closer than the
+// current position (half the amplitude away). Not exact: the deceleration estimate assumes a
+// slow-down between linear and early-peaked (landing.hpp), minimum jerk is neither; the
+// simulated tracker's skewed profiles are checked in sim_eval_test.cpp.
 TEST(LandingPredictor, PredictsMainSequenceSaccadeFromHalfItsDuration) {
     LandingPredictor p;
     for (double amp : {3.0, 6.0, 12.0, 20.0}) {
@@ -28,7 +29,7 @@ TEST(LandingPredictor, PredictsMainSequenceSaccadeFromHalfItsDuration) {
         const LandingEstimate e = p.predict(t, x, y);
         ASSERT_TRUE(e.valid);
         const double err = std::hypot(e.x_deg - (2.0 + 0.8 * amp), e.y_deg - (-1.0 + 0.6 * amp));
-        EXPECT_LT(err, std::max(0.3, 0.1 * amp)) << amp;
+        EXPECT_LT(err, std::max(0.3, 0.15 * amp)) << amp;
         EXPECT_GT(e.uncertainty_deg, 0.0) << amp;
     }
 }

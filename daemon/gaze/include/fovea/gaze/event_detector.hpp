@@ -4,14 +4,26 @@
 //   1. velocity: least-squares slope over a short centred window (a Savitzky-Golay derivative);
 //   2. saccades: Nyström & Holmqvist (2010) adaptive peak/onset thresholds (mean + 6/3 SD of the
 //      sub-threshold velocities), onset/offset at the local velocity minimum, PSO = renewed
-//      velocity above the onset threshold within 40 ms of the offset;
+//      velocity above the onset threshold within 40 ms of the offset. Offset and PSO are judged
+//      on a sharper derivative (+-2 ms) as well: a PSO wobble lasts 5-20 ms and the +-4 ms
+//      window that keeps the peak test robust fills in the dip between a small saccade and its
+//      PSO. The offset threshold is at least N&H's local noise (mean + 3 SD of the velocity in
+//      the 40 ms before the onset), which matters during pursuit;
 //   3. the rest (intersaccadic samples) is fixation or pursuit by the eye's speed measured over a
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
 //      lack, see daemon/gaze/README.md);
 //   4. blinks from lost samples, extended over the lid's artefacts at both edges.
-// Online mode holds samples back for a bounded look-ahead and estimates thresholds from the past;
-// offline mode takes thresholds from the whole recording (estimate_thresholds) and no bound.
+// Online mode holds samples back for a bounded look-ahead and estimates thresholds from the past
+// (learning from stage-2 labels, so saccade/PSO results do not depend on the look-ahead; the
+// position noise starts from a prior so the first samples cannot set it alone); offline mode
+// takes thresholds from the whole recording (estimate_thresholds) and no bound.
+// Parameter choice: one set for every recording, each value from the physiology or the
+// published method (N&H's 6/3 SD, 40 ms PSO window and local-noise window; saccades 10-150 ms;
+// pursuit > ~2 deg/s) or from the tracker's sampling (derivative windows in ms, converted per
+// rate); none is fitted per file. On lund2013 the online look-ahead that keeps every event
+// within 0.05 kappa of offline is 350 ms (the fixation/pursuit split needs it; saccades and
+// PSO are the same at any look-ahead).
 #pragma once
 
 #include <algorithm>
