@@ -397,7 +397,8 @@ void EventDetector::stage_saccades(int64_t c) {
             const bool sharp_min = !(vf_next < e.vf);
             const bool smooth_end = v < offset && local_min;
             // Either derivative may find the minimum; both must be below the threshold.
-            const bool sharp_end = e.vf < offset && sharp_min && v < offset;
+            // (A lid artefact next to a loss keeps the smooth rule: coders mark its full extent.)
+            const bool sharp_end = !sacc_blink_ && e.vf < offset && sharp_min && v < offset;
             if (smooth_end || sharp_end || duration > p_.max_saccade_s) end_saccade(c);
             return;
         }
