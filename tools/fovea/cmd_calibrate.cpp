@@ -22,6 +22,7 @@
 #include "command.hpp"
 #include "control.hpp"
 #include "fovea/ring.h"
+#include "gaze_format.hpp"
 #include "paths.hpp"
 #include "ring_session.hpp"
 
@@ -88,18 +89,23 @@ json validate(int device, double settle_ms, double collect_ms) {
     std::map<std::string, double> offset_sum, offset_n;
     uint64_t calibrated = 0, records = 0;
     for (const auto& [x, y] : kValidationTargets) {
+        // Records are selected by capture time: the chain publishes with a look-ahead delay, so
+        // what arrives right after the settle time may still show the previous target.
+        uint64_t cursor = ring->head();
+        const int64_t shown_ns = monotonic_ns();
+        const int64_t from_ns = shown_ns + static_cast<int64_t>(settle_ms * 1e6);
+        const int64_t until_ns = from_ns + static_cast<int64_t>(collect_ms * 1e6);
         // The daemon converts the target to degrees with its own display geometry.
         const json shown = request({{"cmd", "calibrate.target"}, {"x", x}, {"y", y}});
         const double tx = shown["deg_x"].get<double>(), ty = shown["deg_y"].get<double>();
-        std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(settle_ms));
-        uint64_t cursor = ring->head();
-        const auto end = std::chrono::steady_clock::now() +
-                         std::chrono::duration<double, std::milli>(collect_ms);
         std::map<std::string, std::vector<std::pair<double, double>>> here;
-        while (std::chrono::steady_clock::now() < end) {
+        bool past = false;
+        while (!past && monotonic_ns() < until_ns + 2'000'000'000) {
             if (!ring->wait(cursor, 100)) continue;
             for (const auto& r : ring->read(cursor, 256).records) {
                 if (static_cast<int>(r.device_id) != device) continue;
+                past = past || r.t_capture_ns >= until_ns;
+                if (r.t_capture_ns < from_ns || r.t_capture_ns >= until_ns) continue;
                 ++records;
                 calibrated += (r.flags & FOVEA_FLAG_CALIBRATED) != 0;
                 for (auto [name, eye] : {std::pair{"left", &r.left}, {"right", &r.right}}) {
