@@ -120,10 +120,13 @@ TEST(Calibration, EvaluateUnmappedMeasuresRawOffsetAndPrecision) {
     EXPECT_FALSE(q.left.fitted);
     EXPECT_EQ(q.left.samples_used, 30);
     EXPECT_EQ(q.right.samples_used, 0);
-    double ax, ay, bx, by;
-    d.to_degrees(0.52, 0.501, ax, ay);
-    d.to_degrees(0.50, 0.500, bx, by);
-    EXPECT_NEAR(q.left.accuracy_deg, std::hypot(ax - bx, ay - by), 0.01);
+    double ax, ay, bx, by, expected = 0;
+    for (double tx : {0.3, 0.5, 0.7}) {
+        d.to_degrees(tx + 0.02, 0.501, ax, ay);  // +-0.001 give the same distance
+        d.to_degrees(tx, 0.5, bx, by);
+        expected += std::hypot(ax - bx, ay - by) / 3;
+    }
+    EXPECT_NEAR(q.left.accuracy_deg, expected, 1e-3);
     d.to_degrees(0.5, 0.5 + 0.002, ax, ay);
     EXPECT_NEAR(q.left.precision_rms_deg, std::fabs(ay), 1e-3);
     EXPECT_NEAR(q.left.precision_sd_deg, std::fabs(ay) / 2, 1e-3);
