@@ -146,7 +146,7 @@ json validate(int device, double settle_ms, double collect_ms) {
         out[name] = {{"accuracy_deg", offset_sum[name] / offset_n[name]},
                      {"precision_rms_deg", n2s ? std::sqrt(s2s / n2s) : 0.0},
                      {"precision_sd_deg", ndev ? std::sqrt(dev / ndev) : 0.0},
-                     {"samples", offset_n[name]}};
+                     {"samples", static_cast<int64_t>(offset_n[name])}};
     }
     return out;
 }
