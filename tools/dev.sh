@@ -23,9 +23,10 @@ build_targets() {  # dir, targets...: sanitizer trees build only what their test
 # Executables behind the labels the sanitizer runs select (tests not built are skipped by ctest).
 asan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test test_drivers_sim
     test_drivers_serial test_drivers_gazepoint test_drivers_replay gaze_unit_tests hid_parser_test
-    usb_test record_tests frame_latency_test frame_latency_daemon_test)
+    usb_test record_tests frame_latency_test frame_latency_daemon_test daemon_calibration_test
+    daemon_calibration_integration_test test_drivers_sim_calibration)
 tsan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test frame_latency_test
-    frame_latency_daemon_test)
+    frame_latency_daemon_test daemon_calibration_test)
 
 step() { printf '\n== %s ==\n' "$*"; }
 
