@@ -21,20 +21,7 @@ namespace {
 
 using vk::testing::PassRunner;
 
-class GpuContrast : public ::testing::Test {
-protected:
-    void SetUp() override {
-        std::string why;
-        device_ = vk::testing::make_device(why);
-        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
-    }
-    void TearDown() override {
-        if (device_) {
-            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
-        }
-    }
-    std::unique_ptr<Device> device_;
-};
+class GpuContrast : public vk::testing::GpuPassTest {};
 
 TEST_F(GpuContrast, MatchesTheCpuModelAcrossShadingRates) {
     const int w = 64, h = 48;

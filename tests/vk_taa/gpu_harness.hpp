@@ -96,6 +96,23 @@ inline std::unique_ptr<Device> make_device(std::string& why) {
 }
 
 // Runs one post pass over frames the test supplies; owns the input/output images.
+// Fixture of the GPU pass tests: a device (skips cleanly without one) whose validation layers
+// must report no error by the end of the test.
+class GpuPassTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        device_ = make_device(why);
+        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
+    }
+    void TearDown() override {
+        if (device_) {
+            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
+        }
+    }
+    std::unique_ptr<Device> device_;
+};
+
 class PassRunner {
 public:
     PassRunner(const Device& dev, VkExtent2D extent, std::vector<std::string> options)

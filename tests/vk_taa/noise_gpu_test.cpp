@@ -22,20 +22,7 @@ namespace {
 
 using vk::testing::PassRunner;
 
-class GpuNoise : public ::testing::Test {
-protected:
-    void SetUp() override {
-        std::string why;
-        device_ = vk::testing::make_device(why);
-        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
-    }
-    void TearDown() override {
-        if (device_) {
-            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
-        }
-    }
-    std::unique_ptr<Device> device_;
-};
+class GpuNoise : public vk::testing::GpuPassTest {};
 
 // A square display of n pixels whose centre has `ppd` pixels per degree.
 EyeDisplay display_with_ppd(int n, float ppd) {

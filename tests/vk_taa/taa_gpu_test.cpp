@@ -20,20 +20,7 @@ namespace {
 
 using vk::testing::PassRunner;
 
-class GpuTaa : public ::testing::Test {
-protected:
-    void SetUp() override {
-        std::string why;
-        device_ = vk::testing::make_device(why);
-        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
-    }
-    void TearDown() override {
-        if (device_) {
-            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
-        }
-    }
-    std::unique_ptr<Device> device_;
-};
+class GpuTaa : public vk::testing::GpuPassTest {};
 
 Image quantize_half(Image img) {
     for (float& v : img.data) v = round_to_half(v);
