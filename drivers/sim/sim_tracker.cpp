@@ -189,12 +189,11 @@ bool SimTracker::start_saccade(int64_t t_ns) {
         dx = -x_ / dist * amp;
         dy = -y_ / dist * amp;
     }
-    begin_saccade(t_ns, dx, dy);
+    begin_saccade(t_ns, dx, dy, amp);
     return true;
 }
 
-void SimTracker::begin_saccade(int64_t t_ns, double dx, double dy) {
-    const double amp = std::hypot(dx, dy);
+void SimTracker::begin_saccade(int64_t t_ns, double dx, double dy, double amp) {
     // Main sequence with per-saccade variability that keeps Vp * D / A (the profile's shape).
     const double jitter = 1.0 + std::clamp(0.08 * rng_.normal(), -0.25, 0.25);
     const double dur_s = main_sequence_duration_ms(amp) * 1e-3 * jitter;
@@ -256,7 +255,7 @@ void SimTracker::maybe_go_to_target(int64_t t_ns) {
     if (std::hypot(dx, dy) < 0.05) {
         start_fixation(t_ns, config_.fixation_mean_ms);
     } else {
-        begin_saccade(t_ns, dx, dy);
+        begin_saccade(t_ns, dx, dy, std::hypot(dx, dy));
     }
 }
 

@@ -109,7 +109,9 @@ private:
     void start_next_phase(int64_t t_ns);
     void start_fixation(int64_t t_ns, double mean_ms);
     bool start_saccade(int64_t t_ns);
-    void begin_saccade(int64_t t_ns, double dx, double dy);
+    // amp_deg is |(dx, dy)| as the caller chose it (passed on so a clamped amplitude stays
+    // exactly within its bound instead of being recomputed with rounding).
+    void begin_saccade(int64_t t_ns, double dx, double dy, double amp_deg);
     void maybe_go_to_target(int64_t t_ns);
     void start_pursuit(int64_t t_ns);
     void start_blink(int64_t t_ns);
