@@ -9,7 +9,7 @@ namespace fovea::daemon {
 namespace {
 
 const char* kKnownTopLevel[] = {"instance", "log_level", "ring", "display", "device", "recording",
-                                "zmq", "calibration"};
+                                "zmq", "calibration", "processing"};
 
 Error key_error(const std::string& origin, const std::string& key, const std::string& what) {
     return make_error(origin + ": " + key + ": " + what);
@@ -60,6 +60,19 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                        read_number(*d, "height_m", g.height_m, 1e-3, 100, origin, "display."),
                        read_number(*d, "distance_m", g.distance_m, 1e-3, 100, origin, "display.")})
             if (!r) return r.error();
+    }
+    if (const toml::node* p = root.get("processing")) {
+        const toml::table* t = p->as_table();
+        if (!t) return key_error(origin, "processing", "must be a table");
+        for (const auto& [key, node] : *t)
+            if (key.str() != "publish")
+                return key_error(origin, "processing." + std::string(key.str()), "unknown key");
+        if (const toml::node* m = t->get("publish")) {
+            const std::optional<std::string> v = m->value<std::string>();
+            if (!v || (*v != "live" && *v != "final"))
+                return key_error(origin, "processing.publish", "must be \"live\" or \"final\"");
+            cfg.publish = *v == "live" ? PublishMode::kLive : PublishMode::kFinal;
+        }
     }
     if (const toml::node* c = root.get("calibration")) {
         const toml::table* t = c->as_table();

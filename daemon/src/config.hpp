@@ -23,12 +23,19 @@ struct CalibrationConfig {
     double collect_ms = 1000; // then collected per target
 };
 
+// [processing] publish: what the gaze ring carries. kLive publishes every sample as soon as the
+// chain has filtered it, with causal provisional event labels (FOVEA_FLAG_PROVISIONAL); kFinal
+// waits for the event detector's look-ahead (~100 ms) so ring labels are final. Recordings and
+// observers always get the final labels.
+enum class PublishMode { kLive, kFinal };
+
 struct DaemonConfig {
     std::string instance = "default";
     std::string log_level = "info";
     uint32_t ring_slots = 4096;
     gaze::DisplayGeometry display;
     CalibrationConfig calibration;
+    PublishMode publish = PublishMode::kLive;  // [processing] publish = "live" | "final"
     ZmqConfig zmq;                     // [zmq]: Pupil-style gaze fan-out, off by default
     std::vector<toml::table> devices;  // [[device]] tables; empty means one simulated tracker
     std::string source_path;           // the file it came from, "" for defaults

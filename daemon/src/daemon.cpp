@@ -10,6 +10,7 @@
 #include <boost/asio/post.hpp>
 #include <cerrno>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <optional>
 
@@ -68,6 +69,13 @@ struct Daemon::Device {
     uint64_t published = 0;
     uint64_t rate_mark = 0;
     double measured_rate_hz = 0.0;
+    // Live mode: how each sample went out to the ring, in order, until its final version (one
+    // per raw sample, FIFO) reaches the observers carrying the same stamps and ring index.
+    struct LivePublication {
+        int64_t t_processed_ns, t_publish_ns;
+        uint64_t index;
+    };
+    std::deque<LivePublication> live;
 };
 
 Daemon::Daemon(DaemonConfig config, std::string config_path)
@@ -226,7 +234,46 @@ void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
     ++d.raw_samples;
     for (auto& o : raw_observers_) o(raw);
     d.pipeline->process(raw, scratch_);
-    for (auto& s : scratch_) publish(d, s);
+    if (config_.publish == PublishMode::kLive && d.pipeline->latest(live_scratch_))
+        publish_live(d, live_scratch_);
+    for (auto& s : scratch_) emit_final(d, s);
+}
+
+void Daemon::publish_live(Device& d, gaze::GazeSample& s) {
+    s.device_id = d.id;
+    fovea_gaze_record rec = to_ring_record(s, d.info.driver == "sim");
+    rec.flags |= FOVEA_FLAG_PROVISIONAL;
+    gaze_ring_.publish(rec);
+    ++d.published;
+    d.live.push_back({s.t_processed_ns, rec.t_publish_ns, rec.index});
+    // Bounded even if a chain ever emitted fewer samples than it took in.
+    static constexpr std::size_t kMaxPending = 1 << 16;
+    if (d.live.size() > kMaxPending) d.live.pop_front();
+}
+
+void Daemon::emit_final(Device& d, gaze::GazeSample& s) {
+    if (config_.publish == PublishMode::kFinal) {
+        publish(d, s);
+        return;
+    }
+    // The ring already carries this sample's position: observers (recording, zmq, the latency
+    // histograms) get the final labels with the stamps of that live publication, so the hop
+    // statistics describe what readers of the ring actually saw.
+    s.device_id = d.id;
+    fovea_gaze_record rec = to_ring_record(s, d.info.driver == "sim");
+    if (!d.live.empty()) {
+        const Device::LivePublication p = d.live.front();
+        d.live.pop_front();
+        s.t_processed_ns = p.t_processed_ns;
+        rec.t_processed_ns = p.t_processed_ns;
+        rec.t_publish_ns = p.t_publish_ns;
+        rec.index = p.index;
+    } else {
+        if (s.t_processed_ns == 0) s.t_processed_ns = now_ns();
+        rec.t_processed_ns = s.t_processed_ns;
+        rec.t_publish_ns = now_ns();
+    }
+    for (auto& o : published_observers_) o(s, rec);
 }
 
 void Daemon::publish(Device& d, gaze::GazeSample& s) {
@@ -289,6 +336,11 @@ int Daemon::show_target(bool shown, double x, double y) {
     return following;
 }
 
+double Daemon::lookahead_ms(const Device& d) const {
+    const double rate = d.info.nominal_rate_hz > 0 ? d.info.nominal_rate_hz : 1000.0;
+    return d.pipeline->lookahead_samples() * 1000.0 / rate;
+}
+
 json Daemon::status() const {
     json devices = json::array();
     for (const auto& d : devices_) {
@@ -311,6 +363,7 @@ json Daemon::status() const {
             {"bytes", st.bytes},
             {"last_error", d->open ? st.last_error : d->open_error},
             {"lookahead_samples", d->pipeline->lookahead_samples()},
+            {"lookahead_ms", lookahead_ms(*d)},
         });
     }
     json s = {
@@ -328,7 +381,10 @@ json Daemon::status() const {
           {"head_ring", head_ring_.name()},
           {"head_poses", head_poses_}}},
         {"processing",
-         {{"landing_prediction", readers_attached_ ? "on" : "skipped: no reader attached"}}},
+         {{"landing_prediction", readers_attached_ ? "on" : "skipped: no reader attached"},
+          {"publish", config_.publish == PublishMode::kLive ? "live" : "final"},
+          // How late the ring's samples would be in "final" mode (first device).
+          {"lookahead_ms", devices_.empty() ? 0.0 : lookahead_ms(*devices_.front())}}},
         {"devices", devices},
         {"control", {{"requests", control_.requests()}, {"rejected", control_.rejected()}}},
     };
@@ -413,7 +469,7 @@ void Daemon::shutdown() {
             std::vector<gaze::GazeSample> rest;
             d->pipeline->flush(rest);
             if (gaze_ring_.is_open())
-                for (auto& s : rest) publish(*d, s);
+                for (auto& s : rest) emit_final(*d, s);
         }
     }
     control_.close();

@@ -67,7 +67,12 @@ private:
     void open_device(Device& d);
     void on_raw(Device& d, const gaze::RawSample& raw);
     void publish(Device& d, gaze::GazeSample& s);
+    // publish = "live": the newest sample goes to the ring at once (provisional labels); the
+    // finished one, labelled after the look-ahead, only to the observers (emit_final).
+    void publish_live(Device& d, gaze::GazeSample& s);
+    void emit_final(Device& d, gaze::GazeSample& s);
     void publish_head(Device& d, const drivers::HeadPose& pose);
+    double lookahead_ms(const Device& d) const;
     void register_commands();
     void on_signal(int signo);
     void reload();
@@ -88,6 +93,7 @@ private:
     std::vector<PublishedObserver> published_observers_;
     std::vector<std::pair<std::string, std::function<nlohmann::json()>>> status_sections_;
     std::vector<gaze::GazeSample> scratch_;
+    gaze::GazeSample live_scratch_;
     int lock_fd_ = -1;
     bool readers_attached_ = false;
     bool stopping_ = false;

@@ -60,6 +60,20 @@ TEST(DaemonConfig, UnknownKeyAndBadValuesAreNamed) {
     EXPECT_NE(c.error().message.find("[[device]]"), std::string::npos);
 }
 
+TEST(DaemonConfig, PublishModeDefaultsToLiveAndIsValidated) {
+    EXPECT_EQ(parse_config("", "x.toml")->publish, PublishMode::kLive);
+    EXPECT_EQ(parse_config("[processing]\npublish = \"final\"\n", "x.toml")->publish,
+              PublishMode::kFinal);
+    EXPECT_EQ(parse_config("[processing]\npublish = \"live\"\n", "x.toml")->publish,
+              PublishMode::kLive);
+    auto bad = parse_config("[processing]\npublish = \"soon\"\n", "x.toml");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().message, "x.toml: processing.publish: must be \"live\" or \"final\"");
+    auto unknown = parse_config("[processing]\nlookahead = 3\n", "x.toml");
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().message, "x.toml: processing.lookahead: unknown key");
+}
+
 TEST(DaemonConfig, MissingFileIsOneClearLine) {
     auto c = load_config("/nonexistent/fovead.toml");
     ASSERT_FALSE(c.ok());

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -175,6 +176,60 @@ TEST_F(DaemonTest, StatusReportsDevicesRingAndRates) {
     auto status_cli = cli({"status"});
     ASSERT_EQ(status_cli->wait(), 0) << status_cli->err();
     EXPECT_TRUE(json::parse(status_cli->out())["devices"].is_array());
+}
+
+// publish = "live" puts every sample in the ring as soon as the chain filtered it; "final"
+// holds it for the event detector's look-ahead. The device-side hops describe the ring.
+struct PublishModeLatency {
+    double receive_to_processed_p50_us = -1;
+    double lookahead_ms = -1;
+    std::string mode;
+    uint32_t ring_flags = 0;
+};
+
+PublishModeLatency measure_publish_mode(DaemonTest& t, const std::string& mode) {
+    PublishModeLatency m;
+    const std::string cfg = t.dir + "/publish-" + mode + ".toml";
+    std::ofstream(cfg) << "[processing]\npublish = \"" << mode << "\"\n";
+    auto d = t.start_daemon({"--config", cfg});
+    std::this_thread::sleep_for(800ms);
+    {
+        fovea::Client c(t.instance);
+        const auto r = c.latest();
+        EXPECT_TRUE(r.has_value());
+        if (r) m.ring_flags = r->flags;
+    }
+    auto s = t.query("status");
+    EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+    if (!s.ok()) return m;
+    const json& lat = (*s)["latency"];
+    EXPECT_TRUE(lat.contains("receive_to_processed")) << s->dump();
+    if (lat.contains("receive_to_processed"))
+        m.receive_to_processed_p50_us = lat["receive_to_processed"]["p50_us"].get<double>();
+    m.mode = (*s)["processing"]["publish"].get<std::string>();
+    m.lookahead_ms = (*s)["processing"]["lookahead_ms"].get<double>();
+    EXPECT_TRUE(t.query("shutdown").ok());
+    EXPECT_EQ(d->wait(), 0) << d->err();
+    return m;
+}
+
+TEST_F(DaemonTest, LivePublicationSkipsTheLookaheadFinalWaitsForIt) {
+    const PublishModeLatency live = measure_publish_mode(*this, "live");
+    EXPECT_EQ(live.mode, "live");
+    EXPECT_GT(live.lookahead_ms, 10.0);
+    EXPECT_GE(live.receive_to_processed_p50_us, 0.0);
+    EXPECT_LT(live.receive_to_processed_p50_us, 5000.0 * kSlowdown);
+    EXPECT_TRUE(live.ring_flags & FOVEA_FLAG_PROVISIONAL);
+
+    const PublishModeLatency final_ = measure_publish_mode(*this, "final");
+    EXPECT_EQ(final_.mode, "final");
+    EXPECT_FALSE(final_.ring_flags & FOVEA_FLAG_PROVISIONAL);
+    // Held for the look-ahead: within 20% of it (plus scheduling slack on a loaded machine).
+    EXPECT_GT(final_.receive_to_processed_p50_us, 800.0 * final_.lookahead_ms);
+    EXPECT_LT(final_.receive_to_processed_p50_us, 1200.0 * final_.lookahead_ms + 20000.0 * kSlowdown);
+    std::printf("receive_to_processed p50: live %.1f us, final %.1f us (look-ahead %.1f ms)\n",
+                live.receive_to_processed_p50_us, final_.receive_to_processed_p50_us,
+                final_.lookahead_ms);
 }
 
 TEST_F(DaemonTest, BadConfigIsOneClearLineAndNonZero) {

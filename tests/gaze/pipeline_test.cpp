@@ -48,6 +48,82 @@ TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
     EXPECT_EQ(p.stats().samples_in, s.in.size());
 }
 
+// The live path (fovead publish = "live"): the newest sample is there right after process(),
+// finite, with causal labels only; the look-ahead's final labels arrive later through `out`.
+TEST(Pipeline, LatestIsTheNewestSampleWithCausalLabels) {
+    PipelineConfig c;
+    c.nominal_rate_hz = 1000.0;
+    c.clock = DeviceClock{32, 1e6};
+    Pipeline p(c);
+    GazeSample live;
+    EXPECT_FALSE(p.latest(live));
+    const auto s = test::make_synthetic(1000.0);
+    std::vector<GazeSample> out;
+    int live_saccades_in_true_saccade = 0, live_saccades = 0, true_saccade_samples = 0;
+    bool saw_onset_before = false;
+    for (size_t i = 0; i < s.in.size(); ++i) {
+        RawSample r;
+        r.device_ticks = static_cast<uint64_t>(i) * 1000;
+        r.t_receive_ns = 1'000'000'000 + static_cast<int64_t>(i) * 1'000'000 + 200'000;
+        r.left.valid = r.right.valid = s.in[i].valid;
+        if (s.in[i].valid) {
+            c.display.to_normalized(s.in[i].x_deg, s.in[i].y_deg, r.left.x, r.left.y);
+            r.right = r.left;
+        }
+        p.process(r, out);
+        ASSERT_TRUE(p.latest(live));
+        EXPECT_EQ(live.t_receive_ns, r.t_receive_ns);  // this very sample, not a held one
+        EXPECT_GE(live.t_processed_ns, 0);
+        EXPECT_NE(live.event, Event::kFixation);  // never invented causally
+        EXPECT_NE(live.event, Event::kPso);
+        if (!s.in[i].valid) {
+            EXPECT_FALSE(live.combined.valid);
+            EXPECT_EQ(live.event, Event::kBlink);
+        } else {
+            ASSERT_TRUE(live.combined.valid);
+            EXPECT_TRUE(std::isfinite(live.combined.x) && std::isfinite(live.combined.y));
+            EXPECT_TRUE(std::isfinite(live.combined_deg_x) && std::isfinite(live.combined_deg_y));
+        }
+        if (s.truth[i] == Event::kSaccade) ++true_saccade_samples;
+        if (live.event == Event::kSaccade) {
+            ++live_saccades;
+            live_saccades_in_true_saccade += s.truth[i] == Event::kSaccade;
+            saw_onset_before |= live.saccade.onset_ns > 0 && live.saccade.onset_ns <= live.t_capture_ns;
+            if (live.saccade.landing_valid) {
+                EXPECT_TRUE(std::isfinite(live.saccade.landing_x) && std::isfinite(live.saccade.landing_y));
+            }
+        }
+    }
+    ASSERT_GT(true_saccade_samples, 0);
+    // The generated saccade is flagged while in flight, at most samples of its true duration.
+    EXPECT_GE(live_saccades_in_true_saccade, true_saccade_samples / 2);
+    EXPECT_GE(live_saccades_in_true_saccade * 10, live_saccades * 7);
+    EXPECT_TRUE(saw_onset_before);
+}
+
+TEST(Pipeline, LatestNeverCarriesNaNForGarbageInput) {
+    PipelineConfig c;
+    Pipeline p(c);
+    std::vector<GazeSample> out;
+    GazeSample live;
+    const double garbage[] = {kNaN, INFINITY, -INFINITY, 1e300, 0.5};
+    for (int i = 0; i < 200; ++i) {
+        RawSample r;
+        r.device_ticks = static_cast<uint64_t>(i) * 1'000'000;
+        r.t_receive_ns = 1'000'000'000 + int64_t{i} * 1'000'000;
+        r.left = EyeSample{garbage[i % 5], garbage[(i + 2) % 5], 3.0, i % 3 != 0};
+        r.right = EyeSample{garbage[(i + 1) % 5], garbage[(i + 3) % 5], 3.0, i % 4 != 0};
+        p.process(r, out);
+        ASSERT_TRUE(p.latest(live));
+        if (live.combined.valid) {
+            EXPECT_TRUE(std::isfinite(live.combined.x) && std::isfinite(live.combined.y));
+        } else {
+            EXPECT_EQ(live.event, Event::kBlink);
+        }
+        EXPECT_TRUE(std::isfinite(live.clock_uncertainty_us));
+    }
+}
+
 TEST(Pipeline, CalibrationIsAppliedAndFlagged) {
     PipelineConfig c;
     Pipeline p(c);

@@ -150,11 +150,21 @@ struct Pipeline::Impl {
         }
         detector.push(in);
         pending.push_back(g);
-        history.push_back({t_s, in.x_deg, in.y_deg});
+        history.push_back({t_s, in.x_deg, in.y_deg, g.t_capture_ns});
         if (history.size() > kHistory) history.pop_front();
         ++pushed;
         predict();
+        newest = g;
+        newest.t_processed_ns = monotonic_ns();
+        have_newest = true;
         drain(out);
+    }
+
+    // Capture time of the sample the detector numbered `index`; 0 once it left the history.
+    int64_t capture_ns_of(int64_t index) const {
+        const int64_t first_kept = pushed - static_cast<int64_t>(history.size());
+        if (index < first_kept || index >= pushed) return 0;
+        return history[static_cast<size_t>(index - first_kept)].t_ns;
     }
 
     // Landing prediction at the newest sample while the detector sees a saccade in flight.
@@ -213,6 +223,7 @@ struct Pipeline::Impl {
 
     struct Hist {
         double t, x, y;
+        int64_t t_ns;  // capture time, for the provisional saccade onset
     };
     static constexpr size_t kHistory = 512;
     static constexpr size_t kMaxFit = 512;
@@ -232,6 +243,8 @@ struct Pipeline::Impl {
     double raw_dx = kNaN, raw_dy = kNaN;
     int64_t landing_id = -1;
     LandingEstimate landing;
+    GazeSample newest;  // the last processed sample, before the look-ahead labels it
+    bool have_newest = false;
     PipelineStats stats;
 };
 
@@ -272,6 +285,23 @@ bool Pipeline::latest_landing(SaccadeInfo& out) const {
     out.amplitude_deg = m.landing.amplitude_deg;
     out.landing_uncertainty_deg = m.landing.uncertainty_deg;
     m.config.display.to_normalized(m.landing.x_deg, m.landing.y_deg, out.landing_x, out.landing_y);
+    return true;
+}
+
+bool Pipeline::latest(GazeSample& out) const {
+    const Impl& m = *impl_;
+    if (!m.have_newest) return false;
+    out = m.newest;
+    out.event = Event::kUnknown;
+    out.saccade = SaccadeInfo{};
+    // Causal labels only: what the detector knows at this very sample.
+    if (!out.combined.valid) {
+        out.event = Event::kBlink;
+    } else if (m.detector.saccade_in_flight()) {
+        out.event = Event::kSaccade;
+        latest_landing(out.saccade);
+        out.saccade.onset_ns = m.capture_ns_of(m.detector.saccade_onset_index());
+    }
     return true;
 }
 

@@ -57,6 +57,9 @@ typedef enum fovea_event {
 #define FOVEA_FLAG_CALIBRATED 4u       /* gaze went through a user calibration */
 #define FOVEA_FLAG_SIMULATED 8u        /* from the built-in simulated tracker */
 #define FOVEA_FLAG_CLOCK_CONVERGED 16u /* device clock mapping has converged */
+#define FOVEA_FLAG_PROVISIONAL 32u     /* published live, before the detector's look-ahead:
+                                        * event labels are causal (saccade in flight, blink or
+                                        * unknown); the final labels go to recordings/observers */
 
 /* One eye's gaze. Normalized display coordinates: 0..1, origin top-left. Degrees: visual angle
  * from the display centre, +x right, +y down, from the configured display geometry. */

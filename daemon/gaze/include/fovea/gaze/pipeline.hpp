@@ -70,6 +70,14 @@ public:
     // emitted because of the look-ahead). For renderers that cannot wait: publish this with
     // the latest raw gaze. False when no saccade is in flight.
     bool latest_landing(SaccadeInfo& out) const;
+    // The newest processed sample, available right after process() returns, without waiting
+    // for the look-ahead: filtered position, validity, clock stamps, t_processed_ns (when the
+    // chain finished it) and a PROVISIONAL causal event: kSaccade while the detector sees a
+    // saccade in flight (onset time, and the landing prediction when there is one), kBlink
+    // when no eye is tracked, otherwise kUnknown (fixations are only known after the fact).
+    // The final look-ahead labels of the same sample come later through process()'s `out`.
+    // False before the first sample.
+    bool latest(GazeSample& out) const;
 
 private:
     struct Impl;
