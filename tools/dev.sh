@@ -30,14 +30,21 @@ tsan_targets=(fovead fovea ring_test daemon_config_test daemon_integration_test 
 
 step() { printf '\n== %s ==\n' "$*"; }
 
+stop_demo_daemon() {
+    if [ -n "${demo_daemon_pid:-}" ]; then
+        kill "$demo_daemon_pid" 2>/dev/null || true
+        wait "$demo_daemon_pid" 2>/dev/null || true
+    fi
+}
+
 run_demo() {
     configure_build build/main
     local bin=build/main instance="demo-$$"
     export FOVEA_RUNTIME_DIR="${FOVEA_RUNTIME_DIR:-/tmp/fovea-demo-$(id -u)}"
     step "fovead --instance $instance (simulated tracker)"
     "$bin/daemon/fovead" --instance "$instance" &
-    local daemon_pid=$!
-    trap 'kill $daemon_pid 2>/dev/null || true; wait $daemon_pid 2>/dev/null || true' EXIT
+    demo_daemon_pid=$!  # global: the EXIT trap runs after this function has returned
+    trap stop_demo_daemon EXIT
     step "live gaze: fovea watch (every 100th sample of 2000)"
     "$bin/tools/fovea" --instance "$instance" watch --count 20 --every 100
     step "fovea status"
