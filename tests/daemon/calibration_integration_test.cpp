@@ -21,6 +21,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/child_process.hpp"
+
 #include "control.hpp"
 #include "fovea/client.hpp"
 #include "paths.hpp"
@@ -55,33 +57,7 @@ int64_t now_ns() {
     return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
-struct Proc {
-    pid_t pid = -1;
-    std::string out_path, err_path;
-    // Exit code, or 128+signal; -1 on timeout (then the process is killed).
-    int wait(std::chrono::milliseconds timeout) {
-        if (pid <= 0) return -2;
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        int status = 0;
-        while (std::chrono::steady_clock::now() < end) {
-            if (waitpid(pid, &status, WNOHANG) == pid) {
-                pid = -1;
-                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-            }
-            std::this_thread::sleep_for(5ms);
-        }
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        pid = -1;
-        return -1;
-    }
-    ~Proc() {
-        if (pid > 0) {
-            kill(pid, SIGKILL);
-            waitpid(pid, nullptr, 0);
-        }
-    }
-};
+using Proc = fovea::testing::ChildProcess;
 
 struct CalibrateEndToEnd : ::testing::Test {
     std::string dir, instance, config;
@@ -103,21 +79,10 @@ struct CalibrateEndToEnd : ::testing::Test {
     }
 
     std::unique_ptr<Proc> spawn(const std::string& exe, std::vector<std::string> args) {
-        auto p = std::make_unique<Proc>();
         static int n = 0;
-        p->out_path = dir + "/out" + std::to_string(++n);
-        p->err_path = dir + "/err" + std::to_string(n);
-        posix_spawn_file_actions_t fa;
-        posix_spawn_file_actions_init(&fa);
-        posix_spawn_file_actions_addopen(&fa, 1, p->out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&fa, 2, p->err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        args.insert(args.begin(), exe);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        EXPECT_EQ(posix_spawn(&p->pid, exe.c_str(), &fa, nullptr, argv.data(), environ), 0);
-        posix_spawn_file_actions_destroy(&fa);
-        return p;
+        ++n;
+        return fovea::testing::spawn_logged(exe, std::move(args), dir + "/out" + std::to_string(n),
+                                            dir + "/err" + std::to_string(n));
     }
 
     fovea::Result<json> query(const json& req) {

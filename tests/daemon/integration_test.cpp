@@ -19,6 +19,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/child_process.hpp"
+
 #include "control.hpp"
 #include "fovea/client.hpp"
 #include "paths.hpp"
@@ -40,43 +42,7 @@ constexpr int kSlowdown = 1;
 const std::string kFovead = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
 const std::string kFovea = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
 
-struct Proc {
-    pid_t pid = -1;
-    std::string out_path, err_path;
-
-    std::string out() const { return slurp(out_path); }
-    std::string err() const { return slurp(err_path); }
-    static std::string slurp(const std::string& p) {
-        std::ifstream in(p);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        return ss.str();
-    }
-    // Exit code, or 128+signal; -1 on timeout (then the process is killed).
-    int wait(std::chrono::milliseconds timeout = 20s) {
-        if (pid <= 0) return -2;  // never kill(-1, ...): that signals every process we may
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        int status = 0;
-        while (std::chrono::steady_clock::now() < end) {
-            const pid_t r = waitpid(pid, &status, WNOHANG);
-            if (r == pid) {
-                pid = -1;
-                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-            }
-            std::this_thread::sleep_for(5ms);
-        }
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        pid = -1;
-        return -1;
-    }
-    ~Proc() {
-        if (pid > 0) {
-            kill(pid, SIGKILL);
-            waitpid(pid, nullptr, 0);
-        }
-    }
-};
+using Proc = fovea::testing::ChildProcess;
 
 struct DaemonTest : ::testing::Test {
     std::string dir;
@@ -93,21 +59,10 @@ struct DaemonTest : ::testing::Test {
     void TearDown() override { fs::remove_all(dir); }
 
     std::unique_ptr<Proc> spawn(const std::string& exe, std::vector<std::string> args) {
-        auto p = std::make_unique<Proc>();
         static int n = 0;
-        p->out_path = dir + "/out" + std::to_string(++n);
-        p->err_path = dir + "/err" + std::to_string(n);
-        posix_spawn_file_actions_t fa;
-        posix_spawn_file_actions_init(&fa);
-        posix_spawn_file_actions_addopen(&fa, 1, p->out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&fa, 2, p->err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        args.insert(args.begin(), exe);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        EXPECT_EQ(posix_spawn(&p->pid, exe.c_str(), &fa, nullptr, argv.data(), environ), 0);
-        posix_spawn_file_actions_destroy(&fa);
-        return p;
+        ++n;
+        return fovea::testing::spawn_logged(exe, std::move(args), dir + "/out" + std::to_string(n),
+                                            dir + "/err" + std::to_string(n));
     }
 
     std::unique_ptr<Proc> start_daemon(std::vector<std::string> extra = {}) {
