@@ -82,11 +82,17 @@ void wait_for_point(std::size_t index) {
 // Accuracy and precision (degrees) per eye of the published gaze while fresh targets are shown:
 // the offset of every valid sample from its target, and per target the RMS sample-to-sample
 // distance and the SD around the mean (the published gaze is filtered, so precision is better
-// than the raw figures).
+// than the raw figures). As in common eye-tracker practice (Pupil's accuracy visualiser, for
+// one), samples more than kOutlierDeg from the target are excluded and counted: the eye was not
+// on the target then (still travelling after a blink, or a lid artefact), which says nothing
+// about the calibration.
+constexpr double kOutlierDeg = 5.0;
+
 json validate(int device, double settle_ms, double collect_ms) {
     auto ring = open_ring(global_options().instance, 2000);
     std::map<std::string, std::vector<std::vector<std::pair<double, double>>>> per_eye;  // per target
     std::map<std::string, double> offset_sum, offset_n;
+    std::map<std::string, uint64_t> excluded;
     uint64_t calibrated = 0, records = 0;
     for (const auto& [x, y] : kValidationTargets) {
         // Records are selected by capture time: the chain publishes with a look-ahead delay, so
@@ -110,8 +116,13 @@ json validate(int device, double settle_ms, double collect_ms) {
                 calibrated += (r.flags & FOVEA_FLAG_CALIBRATED) != 0;
                 for (auto [name, eye] : {std::pair{"left", &r.left}, {"right", &r.right}}) {
                     if (!(eye->valid & FOVEA_VALID)) continue;
+                    const double offset = std::hypot(eye->deg_x - tx, eye->deg_y - ty);
+                    if (!(offset <= kOutlierDeg)) {
+                        ++excluded[name];
+                        continue;
+                    }
                     here[name].emplace_back(eye->deg_x, eye->deg_y);
-                    offset_sum[name] += std::hypot(eye->deg_x - tx, eye->deg_y - ty);
+                    offset_sum[name] += offset;
                     offset_n[name] += 1;
                 }
             }
@@ -146,7 +157,9 @@ json validate(int device, double settle_ms, double collect_ms) {
         out[name] = {{"accuracy_deg", offset_sum[name] / offset_n[name]},
                      {"precision_rms_deg", n2s ? std::sqrt(s2s / n2s) : 0.0},
                      {"precision_sd_deg", ndev ? std::sqrt(dev / ndev) : 0.0},
-                     {"samples", static_cast<int64_t>(offset_n[name])}};
+                     {"samples", static_cast<int64_t>(offset_n[name])},
+                     {"excluded_samples", excluded[name]},
+                     {"outlier_threshold_deg", kOutlierDeg}};
     }
     return out;
 }
