@@ -35,14 +35,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr int kSlowdown = 10;
-#else
-constexpr int kSlowdown = 1;
-#endif
-
-const std::string kFovead = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
-const std::string kFovea = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
+using fovea::testing::kSlowdown;
+const std::string& kFovead = fovea::testing::kFoveadBinary;
+const std::string& kFovea = fovea::testing::kFoveaBinary;
 
 std::string slurp(const std::string& p) {
     std::ifstream in(p);

@@ -9,6 +9,20 @@
 namespace fovea::gaze {
 namespace {
 
+// Sample i of a synthetic 1 kHz recording as a tracker would deliver it: a 1 MHz device counter,
+// received 200 us after capture, both eyes at the recording's position.
+RawSample synthetic_raw(const test::Synthetic& s, size_t i, const DisplayGeometry& display) {
+    RawSample r;
+    r.device_ticks = static_cast<uint64_t>(i) * 1000;
+    r.t_receive_ns = 1'000'000'000 + static_cast<int64_t>(i) * 1'000'000 + 200'000;
+    r.left.valid = r.right.valid = s.in[i].valid;
+    if (s.in[i].valid) {
+        display.to_normalized(s.in[i].x_deg, s.in[i].y_deg, r.left.x, r.left.y);
+        r.right = r.left;
+    }
+    return r;
+}
+
 TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
     PipelineConfig c;
     c.nominal_rate_hz = 1000.0;
@@ -20,14 +34,7 @@ TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
     int64_t last_t = INT64_MIN;
     bool saw_landing = false;
     for (size_t i = 0; i < s.in.size(); ++i) {
-        RawSample r;
-        r.device_ticks = static_cast<uint64_t>(i) * 1000;
-        r.t_receive_ns = 1'000'000'000 + static_cast<int64_t>(i) * 1'000'000 + 200'000;
-        r.left.valid = r.right.valid = s.in[i].valid;
-        if (s.in[i].valid) {
-            c.display.to_normalized(s.in[i].x_deg, s.in[i].y_deg, r.left.x, r.left.y);
-            r.right = r.left;
-        }
+        const RawSample r = synthetic_raw(s, i, c.display);
         p.process(r, out);
         for (const auto& g : out) {
             EXPECT_GT(g.t_capture_ns, last_t);
@@ -62,14 +69,7 @@ TEST(Pipeline, LatestIsTheNewestSampleWithCausalLabels) {
     int live_saccades_in_true_saccade = 0, live_saccades = 0, true_saccade_samples = 0;
     bool saw_onset_before = false;
     for (size_t i = 0; i < s.in.size(); ++i) {
-        RawSample r;
-        r.device_ticks = static_cast<uint64_t>(i) * 1000;
-        r.t_receive_ns = 1'000'000'000 + static_cast<int64_t>(i) * 1'000'000 + 200'000;
-        r.left.valid = r.right.valid = s.in[i].valid;
-        if (s.in[i].valid) {
-            c.display.to_normalized(s.in[i].x_deg, s.in[i].y_deg, r.left.x, r.left.y);
-            r.right = r.left;
-        }
+        const RawSample r = synthetic_raw(s, i, c.display);
         p.process(r, out);
         ASSERT_TRUE(p.latest(live));
         EXPECT_EQ(live.t_receive_ns, r.t_receive_ns);  // this very sample, not a held one

@@ -32,8 +32,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-inline const std::string kFovead = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
-inline const std::string kFovea = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
+inline const std::string& kFovead = fovea::testing::kFoveadBinary;
+inline const std::string& kFovea = fovea::testing::kFoveaBinary;
 
 inline std::string slurp(const std::string& p) {
     std::ifstream in(p);

@@ -23,6 +23,18 @@ extern char** environ;
 
 namespace fovea::testing {
 
+// Sanitized builds run several times slower: tests scale their timeouts by this.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr int kSlowdown = 10;
+#else
+inline constexpr int kSlowdown = 1;
+#endif
+
+#ifdef FOVEA_BINARY_DIR  // the build tree, for tests that run the real programs
+inline const std::string kFoveadBinary = std::string(FOVEA_BINARY_DIR) + "/daemon/fovead";
+inline const std::string kFoveaBinary = std::string(FOVEA_BINARY_DIR) + "/tools/fovea";
+#endif
+
 inline std::string slurp_file(const std::string& path) {
     std::ifstream in(path);
     std::stringstream ss;
