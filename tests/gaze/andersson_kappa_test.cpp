@@ -34,11 +34,11 @@ struct Floor {
 };
 
 const Floor kOffline[] = {
-    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.75, false},
+    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.755, false},
     {"video", "saccade", 0.84, true}, {"img", "fixation", 0.75, true},
     {"dots", "fixation", 0.55, true}, {"video", "fixation", 0.55, true},
-    {"img", "pso", 0.65, true},       {"dots", "pso", 0.54, false},
-    {"video", "pso", 0.57, false},
+    {"img", "pso", 0.65, true},       {"dots", "pso", 0.60, true},
+    {"video", "pso", 0.63, true},
 };
 
 class Lund2013 : public ::testing::Test {

@@ -84,6 +84,107 @@ TEST(EventDetector, SaccadeRecordCarriesAmplitudeAndDirection) {
     EXPECT_TRUE(seen);
 }
 
+// Scripted gaze at 500 Hz (the lund2013 rate) with ~0.01 deg noise; positions per sample.
+struct Script {
+    std::vector<DetectorInput> in;
+    uint64_t seed = 11;
+    double x = 0.0, y = 0.0;
+    static constexpr double kRate = 500.0;
+    void sample() {
+        DetectorInput d;
+        d.t_s = static_cast<double>(in.size()) / kRate;
+        d.valid = true;
+        d.x_deg = x + 0.01 * test::noise(seed);
+        d.y_deg = y + 0.01 * test::noise(seed);
+        in.push_back(d);
+    }
+    void fixate(double secs) {
+        for (int i = 0; i < std::lround(secs * kRate); ++i) sample();
+    }
+    // Minimum-jerk saccade along x over the main-sequence duration of `amp`, ending at
+    // x0 + amp + overshoot; y moves at y_dps over its last `hook_samples` samples.
+    void saccade(double amp, double overshoot = 0.0, double y_dps = 0.0, int hook_samples = 0) {
+        const double x0 = x, dur = (2.6 * amp + 17.0) * 1e-3;
+        const int n = static_cast<int>(std::lround(dur * kRate));
+        for (int i = 1; i <= n; ++i) {
+            const double tau = static_cast<double>(i) / n;
+            x = x0 + (amp + overshoot) * tau * tau * tau * (10 - 15 * tau + 6 * tau * tau);
+            if (i > n - hook_samples) y += y_dps / kRate;
+            sample();
+        }
+    }
+    size_t size() const { return in.size(); }
+};
+
+std::vector<DetectorOutput> detect(const Script& s) {
+    return EventDetector::detect_offline(s.in, {}, Script::kRate);
+}
+
+// The eye overshoots and turns back while its other component keeps moving (a hooked saccade
+// end, as in the lund2013 dots recordings): its speed never falls to a minimum below the
+// offset threshold (0.2 x ~430 deg/s peak), but the saccade is over when the velocity reverses
+// along the saccade's direction, and the return is the PSO.
+TEST(EventDetector, SaccadeEndsWhereTheVelocityTurnsBackAndTheReturnIsPso) {
+    Script s;
+    s.fixate(1.0);
+    const double hook_dps = 150.0;
+    s.saccade(8.0, 0.8, hook_dps, 6);
+    const size_t turn = s.size() - 1;  // last sample moving forward
+    const int back = 8;                // 16 ms: x returns 0.8 deg while y keeps moving
+    const double x_top = s.x;
+    for (int i = 1; i <= back; ++i) {
+        const double u = static_cast<double>(i) / back;
+        s.x = x_top - 0.8 * (1.0 - std::cos(M_PI * u)) / 2.0;
+        s.y += hook_dps / Script::kRate;
+        s.sample();
+    }
+    s.fixate(1.0);
+    const auto out = detect(s);
+    ASSERT_EQ(out.size(), s.size());
+    size_t last_saccade = 0;
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (out[i].event == Event::kSaccade) last_saccade = i;
+    }
+    EXPECT_GE(last_saccade + 2, turn);
+    EXPECT_LE(last_saccade, turn + 1);
+    int pso = 0;
+    for (size_t i = turn + 2; i <= turn + back - 2; ++i) pso += out[i].event == Event::kPso;
+    EXPECT_GE(pso, back - 4) << "the return movement is the PSO";
+}
+
+// A second, larger saccade that starts inside the first one's PSO window is a saccade of its
+// own: it is faster than the saccade whose wobble it would be.
+TEST(EventDetector, FasterMovementInsidePsoWindowIsANewSaccade) {
+    Script s;
+    s.fixate(1.0);
+    s.saccade(3.0);
+    const size_t first_end = s.size() - 1;
+    // 16 ms wobble (damped, one period), then the next saccade 20 ms after the first.
+    const double x_end = s.x;
+    for (int i = 1; i <= 10; ++i) {
+        s.x = x_end + 0.3 * std::exp(-i / 6.0) * std::sin(2 * M_PI * i / 8.0);
+        s.sample();
+    }
+    s.x = x_end;
+    const size_t second_start = s.size();
+    s.saccade(12.0);
+    const size_t second_end = s.size() - 1;
+    s.fixate(1.0);
+    const auto out = detect(s);
+    ASSERT_EQ(out.size(), s.size());
+    int saccade = 0;
+    int64_t id = -1;
+    for (size_t i = second_start; i <= second_end; ++i) {
+        if (out[i].event != Event::kSaccade) continue;
+        ++saccade;
+        id = out[i].saccade_id;
+    }
+    EXPECT_GE(saccade, static_cast<int>(0.8 * static_cast<double>(second_end - second_start + 1)));
+    EXPECT_EQ(out[first_end - 3].event, Event::kSaccade);
+    EXPECT_NE(out[first_end - 3].saccade_id, id) << "two saccades, not one";
+    EXPECT_NEAR(out[second_end - 3].saccade.amplitude_deg, 12.0, 1.5);
+}
+
 TEST(EventDetector, GarbageInputIsLabelledNotPropagated) {
     EventDetector d({}, 500.0, DetectorMode::kOnline);
     DetectorOutput o;

@@ -2,6 +2,7 @@
 // gaze pipeline's events against hand-labelled recordings (Andersson et al. 2017 scoring).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -16,6 +17,8 @@ struct Options {
     std::string dir;
     std::string mode = "offline";
     bool json = false;
+    bool per_file = false;
+    std::string dump_dir;
     double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
 };
 
@@ -46,6 +49,64 @@ nlohmann::json number(double v) {
     return std::isfinite(v) ? nlohmann::json(std::round(v * 1e4) / 1e4) : nlohmann::json(nullptr);
 }
 
+// One CSV per recording (index, detected event, each coder's label; event codes as in the
+// data README) for looking at where the detector and the coders disagree.
+bool dump_detections(const gaze::LabelledSet& set,
+                     const std::vector<std::vector<gaze::Event>>& detections,
+                     const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    for (size_t r = 0; r < set.recordings.size(); ++r) {
+        const auto& rec = set.recordings[r];
+        const std::string path = dir + "/" + rec.stimulus + "__" + rec.name + ".csv";
+        std::FILE* f = std::fopen(path.c_str(), "w");
+        if (!f) {
+            std::fprintf(stderr, "eval-events: cannot write %s\n", path.c_str());
+            return false;
+        }
+        std::fprintf(f, "i,t_s,x_px,y_px,det");
+        for (const auto& [coder, file] : rec.coders) std::fprintf(f, ",%s", coder.c_str());
+        std::fprintf(f, "\n");
+        for (size_t i = 0; i < rec.length; ++i) {
+            std::fprintf(f, "%zu,%.6f,%.2f,%.2f,%d", i, rec.data->t_s[i], rec.data->x_px[i],
+                         rec.data->y_px[i], static_cast<int>(detections[r][i]));
+            for (const auto& [coder, file] : rec.coders) {
+                std::fprintf(f, ",%d", static_cast<int>(file->labels[i]));
+            }
+            std::fprintf(f, "\n");
+        }
+        std::fclose(f);
+    }
+    return true;
+}
+
+// Kappa against both coders stacked, per recording: which files drive a stimulus' score.
+void print_per_file(const gaze::LabelledSet& set,
+                    const std::vector<std::vector<gaze::Event>>& detections) {
+    std::printf("%-6s %-28s", "stim", "recording");
+    for (gaze::Event e : gaze::kScoredEvents) std::printf(" %8s", gaze::event_name(e));
+    std::printf("\n");
+    for (size_t r = 0; r < set.recordings.size(); ++r) {
+        const auto& rec = set.recordings[r];
+        std::printf("%-6s %-28s", rec.stimulus.c_str(), rec.name.c_str());
+        for (gaze::Event e : gaze::kScoredEvents) {
+            gaze::Agreement a;
+            for (const auto& [coder, file] : rec.coders) {
+                for (size_t i = 0; i < rec.length; ++i) {
+                    a.add(detections[r][i] == e, file->labels[i] == e);
+                }
+            }
+            const double k = a.kappa();
+            if (std::isfinite(k)) {
+                std::printf(" %8.3f", k);
+            } else {
+                std::printf(" %8s", "-");
+            }
+        }
+        std::printf("\n");
+    }
+}
+
 int run(const Options& o) {
     gaze::DetectorMode mode;
     if (o.mode == "online") {
@@ -73,6 +134,8 @@ int run(const Options& o) {
         detections.push_back(gaze::run_pipeline(*rec.data, mode, params));
     }
     const gaze::EvalResult result = gaze::score(*set, detections);
+    if (!o.dump_dir.empty() && !dump_detections(*set, detections, o.dump_dir)) return 1;
+    if (o.per_file) print_per_file(*set, detections);
     if (o.json) {
         nlohmann::json j;
         j["kappa"] = nlohmann::json::object();
@@ -128,6 +191,10 @@ void setup(CLI::App& app) {
     app.add_option("dir", o->dir, "Directory of labelled CSV files (lund2013 format)")->required();
     app.add_option("--mode", o->mode, "Detector mode: offline (whole recording) or online");
     app.add_flag("--json", o->json, "Print one JSON object");
+    app.add_flag("--per-file", o->per_file, "Also print kappa (both coders) per recording");
+    app.add_option("--dump", o->dump_dir,
+                   "Write one CSV per recording (detected event and coder labels) to this "
+                   "directory");
     app.add_option("--lookahead-ms", o->lookahead_ms,
                    "Online mode: look-ahead bound in ms (the daemon's setting)");
     app.callback([o] {

@@ -177,9 +177,10 @@ bool EventDetector::pop(DetectorOutput& out) {
 
 namespace {
 
-// Least-squares slope (a Savitzky-Golay first derivative) of x and y over [lo, hi] around c.
+// Least-squares slope (a Savitzky-Golay first derivative) of x and y over [lo, hi] around c:
+// the velocity vector, deg/s.
 template <typename Entries>
-double window_slope_speed(const Entries& at, int64_t lo, int64_t hi, double t0) {
+std::array<double, 2> window_slope(const Entries& at, int64_t lo, int64_t hi, double t0) {
     double st = 0, sx = 0, sy = 0;
     int m = 0;
     for (int64_t i = lo; i <= hi; ++i) {
@@ -198,7 +199,8 @@ double window_slope_speed(const Entries& at, int64_t lo, int64_t hi, double t0) 
         stx += dt * (q.x - xm);
         sty += dt * (q.y - ym);
     }
-    return stt > 0 ? std::hypot(stx / stt, sty / stt) : 0.0;
+    if (!(stt > 0)) return {0.0, 0.0};
+    return {stx / stt, sty / stt};
 }
 
 }  // namespace
@@ -210,14 +212,21 @@ void EventDetector::compute_velocity(int64_t c) {
     for (int64_t i = lo; i <= hi; ++i) {
         if (at(i).lost) {
             e.v = e.vf = kNaN;
+            e.vx = e.vy = e.vfx = e.vfy = kNaN;
             return;
         }
     }
     auto get = [this](int64_t i) -> const Entry& { return at(i); };
-    e.v = window_slope_speed(get, lo, hi, e.t);
-    e.vf = kf_ == k_ ? e.v
-                     : window_slope_speed(get, std::max(base_, c - kf_),
-                                          std::min(n_ - 1, c + kf_), e.t);
+    const auto wide = window_slope(get, lo, hi, e.t);
+    const auto sharp = kf_ == k_ ? wide
+                                 : window_slope(get, std::max(base_, c - kf_),
+                                                std::min(n_ - 1, c + kf_), e.t);
+    e.vx = wide[0];
+    e.vy = wide[1];
+    e.v = std::hypot(e.vx, e.vy);
+    e.vfx = sharp[0];
+    e.vfy = sharp[1];
+    e.vf = std::hypot(e.vfx, e.vfy);
 }
 
 EventDetector::Record* EventDetector::record(int64_t id) {
@@ -255,12 +264,14 @@ void EventDetector::mark_blink_back(int64_t c) {
     }
 }
 
-void EventDetector::start_saccade(int64_t c) {
+void EventDetector::start_saccade(int64_t c, bool after_pso) {
     int64_t j = c;
     const int64_t lo = std::max(emit_next_, base_);
+    // A saccade rising out of the previous one's PSO takes back its own rising flank.
     auto usable = [&](int64_t i) {
         const Entry& q = at(i);
-        return i >= lo && std::isfinite(q.v) && (is_inter(q.label));
+        return i >= lo && std::isfinite(q.v) &&
+               (is_inter(q.label) || (after_pso && q.label == Label::kPso));
     };
     while (usable(j - 1) && at(j - 1).v > onset_) --j;
     // Onset: the first sample above the onset threshold. (N&H walk on to the velocity minimum;
@@ -287,6 +298,15 @@ void EventDetector::start_saccade(int64_t c) {
     sacc_onset_ = j;
     sacc_id_ = id;
     sacc_peak_ = at(c).v;
+    set_saccade_direction(at(c));
+}
+
+void EventDetector::set_saccade_direction(const Entry& e) {
+    const double norm = std::hypot(e.vx, e.vy);
+    if (norm > 0) {
+        sacc_dir_x_ = e.vx / norm;
+        sacc_dir_y_ = e.vy / norm;
+    }
 }
 
 double EventDetector::local_noise_before(int64_t onset) const {
@@ -383,11 +403,21 @@ void EventDetector::stage_saccades(int64_t c) {
     // window would flatten below threshold.
     const double pv = e.vf;
     const bool pso_min = !((c + 1 < vel_next_ ? at(c + 1).vf : e.vf) < e.vf);
+    // Faster than the saccade it would follow: a new saccade, not its wobble (PSO velocities
+    // stay below the parent saccade's peak).
+    const bool after_saccade = state_ == State::kPso || state_ == State::kPostSaccade;
+    if (after_saccade && v > peak_ && v > sacc_peak_) {
+        start_saccade(c, true);
+        return;
+    }
     switch (state_) {
         case State::kSaccade: {
             e.label = sacc_blink_ ? Label::kBlink : Label::kSaccade;
             e.sacc = sacc_id_;
-            sacc_peak_ = std::max(sacc_peak_, v);
+            if (v > sacc_peak_) {
+                sacc_peak_ = v;
+                set_saccade_direction(e);
+            }
             const double duration = e.t - at(std::max(sacc_onset_, base_)).t;
             // The saccade ends at the first velocity minimum once the eye has decelerated: what
             // follows a minimum that is still fast is the post-saccadic wobble, not the saccade.
@@ -399,7 +429,20 @@ void EventDetector::stage_saccades(int64_t c) {
             // Either derivative may find the minimum; both must be below the threshold.
             // (A lid artefact next to a loss keeps the smooth rule: coders mark its full extent.)
             const bool sharp_end = !sacc_blink_ && e.vf < offset && sharp_min && v < offset;
-            if (smooth_end || sharp_end || duration > p_.max_saccade_s) end_saccade(c);
+            // Or the velocity reverses sign along the saccade's direction (taken at the peak
+            // velocity): an overshoot turning back is the PSO (Larsson et al. 2013), although
+            // the speed may still be high and never reach a minimum below the threshold. A mere
+            // slowing keeps the minimum rule (the sharp component alone reverses on one
+            // jittered sample, so the wide one must also have stopped advancing), and so does
+            // a saccade shorter than the minimum duration (a small one's onset is found late;
+            // the speed rules decide whether it was a saccade at all).
+            const double forward_sharp = e.vfx * sacc_dir_x_ + e.vfy * sacc_dir_y_;
+            const double forward_wide = e.vx * sacc_dir_x_ + e.vy * sacc_dir_y_;
+            const bool turned_back = !sacc_blink_ && duration >= p_.min_saccade_s &&
+                                     forward_sharp < 0.0 && forward_wide < offset;
+            if (smooth_end || sharp_end || turned_back || duration > p_.max_saccade_s) {
+                end_saccade(c);
+            }
             return;
         }
         case State::kPso: {

@@ -8,7 +8,11 @@
 //      on a sharper derivative (+-2 ms) as well: a PSO wobble lasts 5-20 ms and the +-4 ms
 //      window that keeps the peak test robust fills in the dip between a small saccade and its
 //      PSO. The offset threshold is at least N&H's local noise (mean + 3 SD of the velocity in
-//      the 40 ms before the onset), which matters during pursuit;
+//      the 40 ms before the onset), which matters during pursuit. The saccade also ends where
+//      its velocity reverses sign along its own direction (taken at the peak): an overshoot
+//      turning back is the PSO even when the other component keeps the speed high (hooked ends
+//      in pursuit). A movement inside the PSO window faster than the saccade itself is a new
+//      saccade, not its wobble;
 //   3. the rest (intersaccadic samples) is fixation or pursuit by the eye's speed measured over a
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
@@ -142,6 +146,8 @@ private:
         double t, x, y;
         double v = kNaN;
         double vf = kNaN;  // speed from the sharper offset derivative
+        double vx = kNaN, vy = kNaN;    // velocity vector (wide derivative)
+        double vfx = kNaN, vfy = kNaN;  // velocity vector (sharp derivative)
         bool valid = false;  // measured (not a held dropout value)
         bool lost = false;   // part of a loss long enough to be a blink
         Label label = Label::kPending;
@@ -159,8 +165,9 @@ private:
     void compute_velocity(int64_t c);
     void stage_saccades(int64_t c);
     void stage_smooth(int64_t d, int64_t newest_labelled);
-    void start_saccade(int64_t c);
+    void start_saccade(int64_t c, bool after_pso = false);
     void end_saccade(int64_t last);
+    void set_saccade_direction(const Entry& e);
     void finish_record(int64_t id, int64_t last);
     double local_noise_before(int64_t onset) const;
     void mark_blink_back(int64_t c);
@@ -210,6 +217,7 @@ private:
     State state_ = State::kIdle;
     int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
     double sacc_peak_ = 0.0;
+    double sacc_dir_x_ = 1.0, sacc_dir_y_ = 0.0;  // unit velocity direction at the peak
     double sacc_local_noise_ = 0.0;  // velocity mean + k SD before the onset
     bool sacc_blink_ = false;  // a lid artefact next to a loss: labelled blink
     int64_t post_start_ = -1;
