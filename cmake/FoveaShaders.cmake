@@ -5,6 +5,7 @@
 # - <dir>/*.shade.comp      call the host's fovea_shade(): validated at build time against the
 #                           stub shaders/fovea_host.glsl, embedded as text, compiled at run time
 # - <dir>/*.comp (others)   SPIR-V embedded (and text)
+# - <dir>/*.vert, *.frag     SPIR-V embedded (and text): graphics stages (the demo's G-buffer)
 # Lookup at run time: sdk/src/vk/shaders.hpp (find_shader). Never commit .spv files.
 # This file doubles as the -P script that turns a file into a raw string literal.
 
@@ -18,7 +19,7 @@ set(FOVEA_SHADERS_SCRIPT ${CMAKE_CURRENT_LIST_FILE})
 
 function(fovea_embed_shaders target dir)
     find_program(FOVEA_GLSLANG_VALIDATOR glslangValidator REQUIRED)
-    file(GLOB _comps CONFIGURE_DEPENDS ${dir}/*.comp)
+    file(GLOB _comps CONFIGURE_DEPENDS ${dir}/*.comp ${dir}/*.vert ${dir}/*.frag)
     file(GLOB _incs CONFIGURE_DEPENDS ${dir}/*.glsl)
     list(SORT _comps)
     list(SORT _incs)
@@ -39,7 +40,7 @@ function(fovea_embed_shaders target dir)
         list(APPEND _sources ${_txt})
         set(_spv_include "")
         set(_spv_expr "nullptr, 0")
-        if(_name MATCHES "\\.comp$")
+        if(_name MATCHES "\\.(comp|vert|frag)$")
             if(_name MATCHES "\\.shade\\.comp$")
                 set(_stamp ${_out}/${_name}.check.spv)
                 add_custom_command(OUTPUT ${_stamp}

@@ -1,8 +1,8 @@
 // The demo scene's geometry (tools/demo, DESIGN.md §6): a sine-sum terrain, a 6 x 4 grid of
 // parametric objects (spheres, boxes, cylinders, ellipsoids) standing on it, and screen-facing
-// test targets (zone plate, grating). Ray-cast by demo_gbuffer.comp; materials are shaded by
-// demo_shading.glsl. Material ids: 0 sky, 1 terrain, 2-5 object materials, 10 zone plate,
-// 11 grating.
+// test targets (zone plate, grating). Rasterized by demo_*.vert/.frag (tools/demo/scene.cpp);
+// materials are shaded by demo_shading.glsl. Material ids: 0 sky, 1 terrain, 2-5 object
+// materials, 10 zone plate, 11 grating.
 #ifndef FOVEA_DEMO_SCENE_GLSL
 #define FOVEA_DEMO_SCENE_GLSL
 

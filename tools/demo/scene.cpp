@@ -21,12 +21,28 @@ V3 normalize(V3 a) {
 
 constexpr double kDegToRad = 0.017453292519943295;
 
-// Matches DemoView in shaders/demo_gbuffer.comp (std430: ten vec4).
+// Matches DemoView in shaders/demo_raster.glsl (std430: ten vec4).
 struct DemoView {
     float pos[4], right[4], up[4], fwd[4], crop[4], jitter[4];
     float prev_pos[4], prev_right[4], prev_up[4], prev_fwd[4];
 };
 constexpr uint32_t kSlots = 64;
+
+// Terrain clipmap (shaders/demo_terrain.vert): level 0 is kTerrainCells^2 cells of
+// kTerrainSpacing metres; each further level doubles the spacing around a hole the size of the
+// previous level, until the terrain reaches kFarM (the old ray-cast's far distance).
+constexpr uint32_t kTerrainCells = 64;
+constexpr float kTerrainSpacing = 0.125f;
+constexpr float kFarM = 400.f;
+constexpr uint32_t terrain_levels() {
+    uint32_t levels = 1;
+    for (float half = 0.5f * kTerrainCells * kTerrainSpacing; half < kFarM; half *= 2.f) ++levels;
+    return levels;
+}
+constexpr uint32_t kTerrainVertices =
+    6 * (kTerrainCells * kTerrainCells +
+         (terrain_levels() - 1) * (kTerrainCells * kTerrainCells * 3 / 4));
+constexpr uint32_t kObjectVertices = 36 * 6 * 4;  // a box per object: kGridX * kGridZ in demo_scene.glsl
 
 void put(float* dst, const V3& v, float w) {
     dst[0] = v[0];
@@ -67,11 +83,23 @@ std::string shading_glsl() {
 
 SceneRenderer::SceneRenderer(const vk::Device& device)
     : device_(&device),
-      views_(device, sizeof(DemoView) * kSlots, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true) {
-    const vk::Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    const vk::Binding b[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, img, img, img, img, img, img};
-    pipeline_ = vk::ComputePipeline(device, vk::shader_spirv("demo_gbuffer.comp"), VK_NULL_HANDLE,
-                                    b, 4);
+      views_(device, sizeof(DemoView) * kSlots, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true),
+      layout_(device, sizeof(uint32_t)),
+      pass_(device) {
+    const auto pipeline = [&](const char* vert, const char* frag, RasterState state,
+                              std::span<const uint32_t> spec = {}) {
+        return GraphicsPipeline(device, layout_.layout(), pass_.get(), vk::kGBufferImageCount,
+                                vk::shader_spirv(vert), vk::shader_spirv(frag), state, spec);
+    };
+    uint32_t spacing_bits;
+    std::memcpy(&spacing_bits, &kTerrainSpacing, sizeof(spacing_bits));
+    const uint32_t terrain_spec[] = {kTerrainCells, spacing_bits};
+    terrain_ = pipeline("demo_terrain.vert", "demo_terrain.frag", {}, terrain_spec);
+    // Back faces of the proxy boxes: their footprint is the box's even with the camera inside.
+    objects_ = pipeline("demo_object.vert", "demo_object.frag", {VK_CULL_MODE_FRONT_BIT, true, true});
+    sky_ = pipeline("demo_fullscreen.vert", "demo_sky.frag", {VK_CULL_MODE_NONE, true, false});
+    target_ = pipeline("demo_fullscreen.vert", "demo_target.frag", {VK_CULL_MODE_NONE, false, false});
+    vk::DescriptorWriter(device.device(), layout_.set()).storage_buffer(0, views_).commit();
     if (device.properties().limits.timestampComputeAndGraphics) {
         VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -84,7 +112,10 @@ SceneRenderer::~SceneRenderer() {
     if (queries_) vkDestroyQueryPool(device_->device(), queries_, nullptr);
 }
 
-void SceneRenderer::begin_frame() { slot_ = 0; }
+void SceneRenderer::begin_frame() {
+    slot_ = 0;
+    pass_.release_framebuffers();  // the previous frame's commands have completed
+}
 
 double SceneRenderer::gpu_ms() const {
     const uint32_t views = std::min(slot_, kSlots);
@@ -118,26 +149,35 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
     put(v.prev_up, prev.up, prev.tan_y);
     put(v.prev_fwd, prev.fwd, 0.f);
     std::memcpy(static_cast<DemoView*>(views_.data()) + slot, &v, sizeof(v));
-    const VkImageView key = g.images[0].view;
-    auto it = sets_.find(key);
-    if (it == sets_.end()) {
-        VkDescriptorSet set = pipeline_.allocate_set();
-        vk::DescriptorWriter w(device_->device(), set);
-        w.storage_buffer(0, views_);
-        for (uint32_t i = 0; i < vk::kGBufferImageCount; ++i)
-            w.storage_image(1 + i, g.images[i].view);
-        w.commit();
-        it = sets_.emplace(key, set).first;
-    }
+    auto depth = depth_.find({g.extent.width, g.extent.height});
+    if (depth == depth_.end())
+        depth = depth_.emplace(std::pair{g.extent.width, g.extent.height},
+                               DepthImage(*device_, g.extent)).first;
     if (queries_) {
         if (slot == 0) vkCmdResetQueryPool(cmd, queries_, 0, 2 * kSlots);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * slot);
     }
-    pipeline_.bind(cmd, VK_NULL_HANDLE, it->second, &slot, sizeof(slot));
-    vkCmdDispatch(cmd, vk::div_up(g.extent.width, 8), vk::div_up(g.extent.height, 8), 1);
+    pass_.begin(cmd, g, depth->second.view());
+    const VkDescriptorSet set = layout_.set();
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0,
+                            nullptr);
+    vkCmdPushConstants(cmd, layout_.layout(),
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(slot),
+                       &slot);
+    const auto draw = [&](const GraphicsPipeline& p, uint32_t vertices) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.get());
+        vkCmdDraw(cmd, vertices, 1, 0, 0);
+    };
+    if (scene == SceneKind::kDemo) {
+        draw(terrain_, kTerrainVertices);
+        draw(objects_, kObjectVertices);
+        draw(sky_, 3);  // last: only where nothing else was drawn (depth still far)
+    } else {
+        draw(target_, 3);
+    }
+    pass_.end(cmd);
     if (queries_)
-        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, 2 * slot + 1);
-    vk::compute_barrier(cmd);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * slot + 1);
 }
 
 }  // namespace fovea::demo

@@ -1,7 +1,8 @@
 // The G-buffer contract between the host and the foveation module. The module owns the images
 // (Foveator::gbuffer()); the host writes all of them every frame at full resolution (visibility
 // stays at full rate, Patney 2016 §4) before recording Foveator::record(), with storage-image
-// writes from compute (the demo ray-casts its scene). They stay in VK_IMAGE_LAYOUT_GENERAL.
+// writes from compute or as colour attachments (the demo rasterizes its scene). They stay in
+// VK_IMAGE_LAYOUT_GENERAL.
 //
 //  image     format               contents
 //  position  R32G32B32A32_SFLOAT  xyz world position, w view distance (0 = background/sky)
@@ -29,10 +30,11 @@ inline constexpr std::array<VkFormat, kGBufferImageCount> kGBufferFormats = {
     VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM,
     VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32_SFLOAT,          VK_FORMAT_R16G16_SFLOAT};
 
-// Usage of every G-buffer image: storage, sampled, transfer src/dst.
+// Usage of every G-buffer image: storage, sampled, transfer src/dst, and colour attachment (a host
+// may rasterize its G-buffer, as the demo does).
 inline constexpr VkImageUsageFlags kGBufferUsage =
     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-    VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
 
 struct GBufferRefs {
     VkExtent2D extent{0, 0};

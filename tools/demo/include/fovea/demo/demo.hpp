@@ -1,4 +1,4 @@
-// The demo host app pieces (DESIGN.md §6): a scene in code ray-cast into the module's G-buffer,
+// The demo host app pieces (DESIGN.md §6): a scene in code rasterized into the module's G-buffer,
 // its expensive procedural shading function, a scripted camera path, a gaze trace with saccades,
 // and the runner that renders the same frames with several methods against the full-rate
 // reference, with PSNR/SSIM over the fovea and per eccentricity band. All calls on one thread.
@@ -13,6 +13,7 @@
 #include "fovea/result.hpp"
 #include "fovea/vk/acuity.hpp"
 #include "fovea/vk/foveator.hpp"
+#include "fovea/demo/raster.hpp"
 #include "gpu.hpp"
 
 namespace fovea::demo {
@@ -39,7 +40,7 @@ public:
     SceneRenderer& operator=(const SceneRenderer&) = delete;
     ~SceneRenderer();
     void begin_frame();  // before recording a frame's views (slots are reused per frame)
-    // Ray-casts the crop of the view (0..1 of the full frame) into `gbuffer`, with jitter in
+    // Rasterizes the crop of the view (0..1 of the full frame) into `gbuffer`, with jitter in
     // pixels of the gbuffer. prev: the previous frame's camera, for motion vectors.
     void record(VkCommandBuffer cmd, const vk::GBufferRefs& gbuffer, SceneKind scene,
                 const Camera& cam, const Camera& prev, double time_s,
@@ -53,8 +54,10 @@ private:
     const vk::Device* device_;
     VkQueryPool queries_ = VK_NULL_HANDLE;  // a begin/end timestamp pair per view slot
     vk::Buffer views_;
-    vk::ComputePipeline pipeline_;
-    std::map<VkImageView, VkDescriptorSet> sets_;
+    BufferSetLayout layout_;
+    GBufferRenderPass pass_;
+    GraphicsPipeline terrain_, objects_, sky_, target_;
+    std::map<std::pair<uint32_t, uint32_t>, DepthImage> depth_;  // by view width, height
     uint32_t slot_ = 0;
 };
 

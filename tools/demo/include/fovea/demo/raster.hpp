@@ -1,0 +1,113 @@
+// Rasterization building blocks of the demo host's G-buffer pass (demo-only, so not in the SDK):
+// a depth attachment, the render pass over the module's six G-buffer images plus depth, and a
+// vertex + fragment pipeline without vertex buffers (geometry comes from gl_VertexIndex).
+// Move-only RAII like sdk/src/vk/gpu.hpp. A VkRenderPass rather than dynamic rendering: the
+// module's headless device is Vulkan 1.2 without VK_KHR_dynamic_rendering, and a host's device
+// need not enable it either.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "fovea/vk/device.hpp"
+#include "fovea/vk/gbuffer.hpp"
+
+namespace fovea::demo {
+
+inline constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+class DepthImage {
+public:
+    DepthImage() = default;
+    DepthImage(const vk::Device& device, VkExtent2D extent);
+    DepthImage(DepthImage&& o) noexcept { *this = std::move(o); }
+    DepthImage& operator=(DepthImage&& o) noexcept;
+    DepthImage(const DepthImage&) = delete;
+    DepthImage& operator=(const DepthImage&) = delete;
+    ~DepthImage() { reset(); }
+    void reset();
+    VkImageView view() const { return view_; }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkImage image_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkImageView view_ = VK_NULL_HANDLE;
+};
+
+// The G-buffer images stay in VK_IMAGE_LAYOUT_GENERAL (the module's contract) and are fully
+// overwritten (load op DONT_CARE); depth is cleared to 0 (reverse-Z far). Its dependencies order
+// it after earlier compute, transfer and G-buffer passes and before later ones.
+class GBufferRenderPass {
+public:
+    explicit GBufferRenderPass(const vk::Device& device);
+    GBufferRenderPass(const GBufferRenderPass&) = delete;
+    GBufferRenderPass& operator=(const GBufferRenderPass&) = delete;
+    ~GBufferRenderPass();
+
+    VkRenderPass get() const { return pass_; }
+    // Begins the pass over `gbuffer` and sets viewport and scissor to its extent. The framebuffer
+    // lives until release_framebuffers(), to be called once the commands have completed.
+    void begin(VkCommandBuffer cmd, const vk::GBufferRefs& gbuffer, VkImageView depth);
+    void end(VkCommandBuffer cmd) const { vkCmdEndRenderPass(cmd); }
+    void release_framebuffers();
+
+private:
+    VkDevice device_;
+    VkRenderPass pass_ = VK_NULL_HANDLE;
+    std::vector<VkFramebuffer> framebuffers_;
+};
+
+// One descriptor set with one storage buffer visible to the vertex and fragment stages, and a
+// push-constant range for both: the layout every demo G-buffer pipeline shares.
+class BufferSetLayout {
+public:
+    BufferSetLayout(const vk::Device& device, uint32_t push_bytes);
+    BufferSetLayout(const BufferSetLayout&) = delete;
+    BufferSetLayout& operator=(const BufferSetLayout&) = delete;
+    ~BufferSetLayout();
+
+    VkPipelineLayout layout() const { return layout_; }
+    VkDescriptorSet set() const { return set_; }
+
+private:
+    VkDevice device_;
+    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+struct RasterState {
+    VkCullModeFlags cull = VK_CULL_MODE_NONE;
+    bool depth_test = true;  // reverse-Z: GREATER_OR_EQUAL
+    bool depth_write = true;
+};
+
+class GraphicsPipeline {
+public:
+    GraphicsPipeline() = default;
+    // Triangle lists, no vertex input, dynamic viewport and scissor, one colour blend state
+    // (no blending) per colour attachment of `pass`. vert_spec: 32-bit specialization constants
+    // 0..n-1 of the vertex stage.
+    GraphicsPipeline(const vk::Device& device, VkPipelineLayout layout, VkRenderPass pass,
+                     uint32_t color_attachments, std::span<const uint32_t> vert,
+                     std::span<const uint32_t> frag, RasterState state,
+                     std::span<const uint32_t> vert_spec = {});
+    GraphicsPipeline(GraphicsPipeline&& o) noexcept { *this = std::move(o); }
+    GraphicsPipeline& operator=(GraphicsPipeline&& o) noexcept;
+    GraphicsPipeline(const GraphicsPipeline&) = delete;
+    GraphicsPipeline& operator=(const GraphicsPipeline&) = delete;
+    ~GraphicsPipeline() { reset(); }
+    void reset();
+    VkPipeline get() const { return pipeline_; }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+}  // namespace fovea::demo
