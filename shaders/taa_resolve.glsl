@@ -1,22 +1,29 @@
 // TAA pass 3: variance-sampled resolve (Patney §4.2–4.3). Clamp box μ ± γσ from the moment chain
-// at LOD = 4·S_t (manual trilinear: bit-comparable with the CPU model), grown to contain the
-// current sample; history fetched with a 16-tap Catmull-Rom and clipped toward the box centre in
-// YCoCg; saccade-aware α from the accumulated S in the history's alpha; disocclusion from depth
-// and from motion leaving the screen. Mirrors taa_resolve() in sdk/src/vk/post/taa_model.cpp.
+// at LOD = 4·S_t (the sampler's trilinear filter: one fetch per moment image instead of eight
+// texel loads), grown to contain the current sample; history fetched with Catmull-Rom and clipped
+// toward the box centre in YCoCg; saccade-aware α from the accumulated S in the history's alpha;
+// disocclusion from depth and from motion leaving the screen. Mirrors taa_resolve() in
+// sdk/src/vk/post/taa_model.cpp.
+//
+// Approximation (the issue allows it, the model does the same): the 16-tap Catmull-Rom history
+// filter is Jimenez's 5-tap "Catmull-Rom lite" (Filmic SMAA, SIGGRAPH 2016): the 4×4 weights are
+// folded into bilinear fetches and the four corner taps (weights ≤ 1/64 of the total) dropped,
+// renormalized. The history is the dominant cost on a CPU device: 5 filtered fetches, not 16 loads.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0, rgba16f) uniform readonly image2D color_in;
 layout(set = 0, binding = 1, r32f) uniform readonly image2D depth_in;
 layout(set = 0, binding = 2, rg16f) uniform readonly image2D motion_in;
 layout(set = 0, binding = 3, r16f) uniform readonly image2D rate_in;
-layout(set = 0, binding = 4) uniform sampler2D m1_tex;  // all mips; texelFetch only
+layout(set = 0, binding = 4) uniform sampler2D m1_tex;  // trilinear, clamp to edge
 layout(set = 0, binding = 5) uniform sampler2D m2_tex;
-layout(set = 0, binding = 6, TAA_FORMAT) uniform readonly image2D hist_in;
+layout(set = 0, binding = 6) uniform sampler2D hist_in;  // bilinear, clamp to edge
 layout(set = 0, binding = 7, r32f) uniform readonly image2D hist_depth_in;
 layout(set = 0, binding = 8, TAA_FORMAT) uniform writeonly image2D hist_out;
 layout(set = 0, binding = 9, r32f) uniform writeonly image2D hist_depth_out;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D color_out;
 
 layout(push_constant) uniform Push {
+    vec2 jitter;  // this frame's sub-pixel jitter, pixels (first: vec2 needs 8-byte alignment)
     float alpha;
     float alpha_max;
     float beta;
@@ -28,39 +35,26 @@ layout(push_constant) uniform Push {
 
 #include "taa_common.glsl"
 
-// Bilinear texelFetch of one level at full-resolution pixel centre px (clamp-to-edge).
-vec3 fetch_level(sampler2D t, vec2 px, vec2 full, int level) {
-    ivec2 size = textureSize(t, level);
-    vec2 f = px / full * vec2(size) - 0.5;
+// 5-tap Catmull-Rom at continuous pixel position q (texel centres at integer + 0.5).
+vec4 history_catmull_rom(vec2 q, vec2 inv_size) {
+    vec2 f = q - 0.5;
     vec2 b = floor(f);
-    vec2 a = f - b;
-    ivec2 i0 = ivec2(b);
-    ivec2 hi = size - 1;
-    vec3 s00 = texelFetch(t, clamp(i0, ivec2(0), hi), level).xyz;
-    vec3 s10 = texelFetch(t, clamp(i0 + ivec2(1, 0), ivec2(0), hi), level).xyz;
-    vec3 s01 = texelFetch(t, clamp(i0 + ivec2(0, 1), ivec2(0), hi), level).xyz;
-    vec3 s11 = texelFetch(t, clamp(i0 + ivec2(1, 1), ivec2(0), hi), level).xyz;
-    vec3 x0 = s00 * (1.0 - a.x) + s10 * a.x;
-    vec3 x1 = s01 * (1.0 - a.x) + s11 * a.x;
-    return x0 * (1.0 - a.y) + x1 * a.y;
-}
-
-// The level index stays uniform across invocations (lavapipe mis-fetches with a per-invocation
-// texelFetch level); the weights select the two levels trilinear filtering blends.
-vec3 fetch_trilinear(sampler2D t, vec2 px, vec2 full, float lod) {
-    lod = clamp(lod, 0.0, float(pc.levels - 1));
-    int l0 = int(floor(lod));
-    float f = lod - float(l0);
-    vec3 a = vec3(0.0);
-    vec3 b = vec3(0.0);
-    int l1 = min(l0 + 1, pc.levels - 1);
-    for (int l = 0; l < pc.levels; ++l) {
-        if (l != l0 && l != l1) continue;
-        vec3 v = fetch_level(t, px, full, l);
-        if (l == l0) a = v;
-        if (l == l1) b = v;
-    }
-    return f > 0.0 ? a + (b - a) * f : a;
+    vec2 t = f - b;
+    vec4 wx = taa_catmull_rom(t.x);
+    vec4 wy = taa_catmull_rom(t.y);
+    // Taps 0 and 1 (relative to b) and 2 merge into one bilinear fetch between texels b and b+1.
+    vec2 w12 = vec2(wx.y + wx.z, wy.y + wy.z);
+    vec2 c12 = (b + 0.5 + vec2(wx.z, wy.z) / w12) * inv_size;
+    vec2 c0 = (b - 0.5) * inv_size;
+    vec2 c3 = (b + 2.5) * inv_size;
+    float k_top = w12.x * wy.x, k_left = wx.x * w12.y, k_mid = w12.x * w12.y;
+    float k_right = wx.w * w12.y, k_bottom = w12.x * wy.w;
+    vec4 acc = k_top * textureLod(hist_in, vec2(c12.x, c0.y), 0.0) +
+               k_left * textureLod(hist_in, vec2(c0.x, c12.y), 0.0) +
+               k_mid * textureLod(hist_in, c12, 0.0) +
+               k_right * textureLod(hist_in, vec2(c3.x, c12.y), 0.0) +
+               k_bottom * textureLod(hist_in, vec2(c12.x, c3.y), 0.0);
+    return acc / (k_top + k_left + k_mid + k_right + k_bottom);
 }
 
 void main() {
@@ -81,7 +75,9 @@ void main() {
     vec2 px = vec2(p) + 0.5;
     vec2 m = imageLoad(motion_in, p).xy;
     if (any(isnan(m)) || any(isinf(m))) m = vec2(-1e9);
-    vec2 q = px - m;  // motion = current - previous
+    // Motion runs from the unjittered pixel centre to the previous position of the jittered
+    // sample's surface: the centre's own flow is motion + jitter (taa_model.hpp, TaaFrame).
+    vec2 q = px - (m + pc.jitter);
     bool on_screen = q.x >= 0.0 && q.y >= 0.0 && q.x < full.x && q.y < full.y;
     bool have_history = (pc.flags & 1u) != 0u;
     bool occluded = !on_screen;
@@ -90,24 +86,14 @@ void main() {
         occluded = abs(d_prev - d_cur) > pc.depth_tolerance * max(abs(d_cur), 1e-6);
     }
     if (have_history && !occluded) {
-        vec2 f = q - 0.5;
-        vec2 b = floor(f);
-        vec4 wx = taa_catmull_rom(f.x - b.x);
-        vec4 wy = taa_catmull_rom(f.y - b.y);
-        ivec2 base = ivec2(b) - 1;
-        vec4 acc = vec4(0.0);
-        for (int j = 0; j < 4; ++j) {
-            for (int i = 0; i < 4; ++i) {
-                ivec2 t = clamp(base + ivec2(i, j), ivec2(0), size - 1);
-                acc += wx[i] * wy[j] * imageLoad(hist_in, t);
-            }
-        }
+        vec4 acc = history_catmull_rom(q, 1.0 / full);
         vec3 hist_t = max(acc.rgb, vec3(0.0));
         float s_prev = clamp(acc.a, 0.0, 1.0);
 
         float lod = 4.0 * s_cur;
-        vec3 m1 = fetch_trilinear(m1_tex, px, full, lod);
-        vec3 m2 = fetch_trilinear(m2_tex, px, full, lod);
+        vec2 uv = px / full;
+        vec3 m1 = textureLod(m1_tex, uv, lod).xyz;  // the sampler clamps LOD to the chain
+        vec3 m2 = textureLod(m2_tex, uv, lod).xyz;
         vec3 sigma = sqrt(max(m2 - m1 * m1, vec3(0.0)));  // never a negative variance
         vec3 lo = min(m1 - pc.gamma * sigma, cur_q);
         vec3 hi = max(m1 + pc.gamma * sigma, cur_q);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <cmath>
 #include <memory>
@@ -165,13 +166,16 @@ public:
             for (int i = 0; i < frames; ++i) {
                 const PostFrame f{cmd,       VK_NULL_HANDLE, frame_++,      u,
                                   inputs,    gaze,           color_in_.ref(), color_out_.ref(),
-                                  depth_.ref(), motion_.ref(), rate_.ref(), {0.f, 0.f}};
+                                  depth_.ref(), motion_.ref(), rate_.ref(), jitter_};
                 pass.record(f);
                 compute_barrier(cmd);
                 inputs.camera_cut = false;
             }
         });
     }
+
+    // The sub-pixel jitter the frames report (PostFrame::jitter_px); none by default.
+    void set_jitter(float x, float y) { jitter_ = {x, y}; }
 
     // The display the frame uniforms describe (eccentricity, pixels per degree); none by default.
     void set_display(const EyeDisplay& d) { display_ = d; }
@@ -189,6 +193,7 @@ private:
     Buffer stats_;
     vk::Image color_in_, color_out_, depth_, motion_, rate_;
     uint64_t frame_ = 0;
+    std::array<float, 2> jitter_{0.f, 0.f};
     std::optional<EyeDisplay> display_;
 };
 

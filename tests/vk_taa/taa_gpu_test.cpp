@@ -95,10 +95,13 @@ void compare_with_model(const Device& dev, bool half) {
         colour = quantize_half(colour);
         const Image& d = frame >= 6 ? depth : Image(w, h, 1, 0.5f);
         const bool cut = frame == 9;
+        // The frame's jitter moves the history fetch too (flow = motion + jitter).
+        const Jitter j = halton_jitter(std::uint64_t(frame), 8);
         run.set_inputs(colour, d, motion, rate);
+        run.set_jitter(j.x, j.y);
         run.run(*pass, 1, cut);
         const Image gpu = run.output();
-        const Image cpu = taa_resolve({&colour, &d, &motion, &rate, cut}, hist, params);
+        const Image cpu = taa_resolve({&colour, &d, &motion, &rate, cut, j}, hist, params);
         const float diff = max_abs_diff(to_working(gpu), to_working(cpu));
         worst = std::max(worst, diff);
         const float mean = mean_abs_diff(to_working(gpu), to_working(cpu));

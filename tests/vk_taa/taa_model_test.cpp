@@ -138,6 +138,33 @@ TEST(CatmullRom, WeightsSumToOneAndInterpolateAtIntegers) {
     EXPECT_FLOAT_EQ(wh[0], wh[3]);
 }
 
+TEST(CatmullRom, FiveTapIsExactAtTexelCentresAndCloseToSixteenTapsElsewhere) {
+    const Image img = testing::texture(24, 16, 2.0f);
+    // The full 4×4 kernel, clamp to edge, for comparison.
+    const auto sixteen = [&](float x, float y, int c) {
+        const float bx = std::floor(x - 0.5f), by = std::floor(y - 0.5f);
+        const auto wx = catmull_rom_weights(x - 0.5f - bx);
+        const auto wy = catmull_rom_weights(y - 0.5f - by);
+        float acc = 0;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i)
+                acc += wx[std::size_t(i)] * wy[std::size_t(j)] *
+                       img.fetch(int(bx) - 1 + i, int(by) - 1 + j, c);
+        return acc;
+    };
+    float worst = 0;
+    for (float y = 0.5f; y < 16.0f; y += 0.37f) {
+        for (float x = 0.5f; x < 24.0f; x += 0.41f) {
+            const auto five = catmull_rom_5tap(img, x, y);
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(five[size_t(c)] - sixteen(x, y, c)));
+        }
+    }
+    EXPECT_GT(worst, 0.0f);  // an approximation, not the same filter
+    EXPECT_LT(worst, 0.05f);
+    const auto centre = catmull_rom_5tap(img, 7.5f, 3.5f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[size_t(c)], img.at(7, 3, c), 1e-6f);
+}
+
 TEST(SaccadeAlpha, OnlyFovealwardTransitionsAccelerate) {
     const SaccadeParams p;
     EXPECT_FLOAT_EQ(saccade_alpha(0.0f, 1.0f, p), 0.1f);         // fovea → periphery: ω = 0
@@ -190,6 +217,51 @@ TEST(TaaResolve, CameraCutAndOffScreenReprojectionDropHistory) {
     for (int y = 0; y < 16; ++y) {
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(edge.at(0, y, c), b.at(0, y, c), 1e-4f);
     }
+}
+
+// A still camera rendered with Halton jitter: the G-buffer's motion is −jitter (the jittered
+// sample against the previous unjittered view), so the pixel centre's flow is motion + jitter = 0.
+// Reprojecting with the motion alone would fetch the history half a pixel off, differently every
+// frame: the converged image keeps moving (Patney's ATD could never fall).
+double jittered_still_scene_change(bool pass_jitter) {
+    const int w = 48, h = 32;
+    const auto scene = [](float x, float y) {
+        return 0.5f + 0.4f * std::sin(0.9f * x) * std::cos(0.7f * y);
+    };
+    TaaParams params;
+    TaaHistory hist;
+    Image rate(w, h, 1, 0.0f), depth(w, h, 1, 0.5f);
+    Image previous;
+    double change = 0;
+    for (int frame = 0; frame < 48; ++frame) {
+        const Jitter j = halton_jitter(std::uint64_t(frame), 8);
+        Image colour(w, h, 3), motion(w, h, 2);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float v = scene(float(x) + 0.5f + j.x, float(y) + 0.5f + j.y);
+                for (int c = 0; c < 3; ++c) colour.at(x, y, c) = v;
+                motion.at(x, y, 0) = -j.x;
+                motion.at(x, y, 1) = -j.y;
+            }
+        TaaFrame f{&colour, &depth, &motion, &rate, frame == 0};
+        if (pass_jitter) f.jitter = j;
+        const Image out = taa_resolve(f, hist, params);
+        if (frame >= 32) {  // converged: mean change between consecutive frames
+            double sum = 0;
+            for (std::size_t i = 0; i < out.data.size(); ++i) sum += std::fabs(out.data[i] - previous.data[i]);
+            change += sum / double(out.data.size()) / 16.0;
+        }
+        previous = out;
+    }
+    return change;
+}
+
+TEST(TaaResolve, JitteredStillSceneReprojectsWithMotionPlusJitter) {
+    const double with_jitter = jittered_still_scene_change(true);
+    const double motion_only = jittered_still_scene_change(false);
+    std::printf("jittered still scene, mean frame-to-frame change: %.5f (motion + jitter), %.5f "
+                "(motion only)\n", with_jitter, motion_only);
+    EXPECT_LT(with_jitter, 0.5 * motion_only);
 }
 
 TEST(TaaResolve, DisocclusionFromDepthTakesTheCurrentColour) {

@@ -31,6 +31,10 @@ struct Foveator::Impl {
     Method* method = nullptr;
     std::string method_name;
     std::vector<std::unique_ptr<PostPass>> post_chain;
+    // Post passes keep history (TAA): each method owns its chain instance, so a host that
+    // alternates methods frame by frame (fovea bench, demo) never blends one method's frame into
+    // another's history. The active method's chain is `post_chain`; the others wait here.
+    std::map<std::string, std::vector<std::unique_ptr<PostPass>>, std::less<>> parked_chains;
     const ImageRef* output = nullptr;
     FrameUniforms cpu_uniforms{};
     std::array<float, 64> host_params{};
@@ -44,6 +48,7 @@ struct Foveator::Impl {
         vkDeviceWaitIdle(d);
         methods.clear();
         post_chain.clear();
+        parked_chains.clear();
         if (queries) vkDestroyQueryPool(d, queries, nullptr);
         if (frame_pool) vkDestroyDescriptorPool(d, frame_pool, nullptr);
         if (frame_layout) vkDestroyDescriptorSetLayout(d, frame_layout, nullptr);
@@ -105,8 +110,10 @@ struct Foveator::Impl {
         return make_error("unknown method '" + std::string(name) + "'; known:" + known);
     }
 
-    Result<void> build_post_chain(const std::vector<std::string>& names) {
-        std::vector<std::unique_ptr<PostPass>> chain;
+    using PostChain = std::vector<std::unique_ptr<PostPass>>;
+
+    Result<PostChain> make_post_chain(const std::vector<std::string>& names) {
+        PostChain chain;
         if (!names.empty() && !post[0].get())  // ping-pong images only when a chain exists
             for (auto& p : post)
                 p = Image(*device, config.extent, kColorFormat,
@@ -125,7 +132,14 @@ struct Foveator::Impl {
             }
             chain.push_back(std::move(p));
         }
-        post_chain = std::move(chain);
+        return chain;
+    }
+
+    Result<void> build_post_chain(const std::vector<std::string>& names) {
+        auto chain = make_post_chain(names);
+        if (!chain) return chain.error();
+        post_chain = std::move(*chain);
+        parked_chains.clear();  // built for the previous chain's names
         config.post_chain = names;
         return {};
     }
@@ -252,6 +266,20 @@ Result<Foveator> Foveator::create(const Device& device, FoveatorConfig config) {
 Result<void> Foveator::set_method(std::string_view name) {
     auto m = impl_->get_method(name);
     if (!m) return m.error();
+    Impl& i = *impl_;
+    if (name != i.method_name) {  // park this method's post chain, take (or build) the new one's
+        Impl::PostChain next;
+        if (auto own = i.parked_chains.find(name); own != i.parked_chains.end()) {
+            next = std::move(own->second);
+            i.parked_chains.erase(own);
+        } else {
+            auto built = i.make_post_chain(i.config.post_chain);
+            if (!built) return built.error();
+            next = std::move(*built);
+        }
+        i.parked_chains[i.method_name] = std::move(i.post_chain);
+        i.post_chain = std::move(next);
+    }
     impl_->method = *m;
     impl_->method_name = std::string(name);
     impl_->config.method = impl_->method_name;

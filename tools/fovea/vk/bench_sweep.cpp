@@ -105,6 +105,16 @@ std::vector<Config> sweep_configs(const SweepOptions& o) {
     add("sweep B", desktop, desktop_name, {},
         {"kfr.sigma=2.2", "kfr.alpha=5", "adaptive.omega_p=0.01", "layers.half_rate=1"}, {},
         only({"kfr", "adaptive", "layers"}));
+    if (o.width == 0) {
+        // Guenter's study monitor (V* = 59 cm, W* = 51 cm, D* = 1920): pure §4.3 layers at
+        // quality B, every layer every frame and outer layers at half rate (the ≤ 1/8 target).
+        const vk::EyeDisplay study = vk::EyeDisplay::from_size(1920, 1080, 0.51, 0.51 * 9 / 16, 0.59);
+        const std::string study_name = display_name(study, "guenter-study");
+        add("guenter B", study, study_name, {"acuity.mar_slope=0.022"}, {"layers.fovea_deg=0"}, {},
+            only({"layers"}));
+        add("guenter B half", study, study_name, {"acuity.mar_slope=0.022"},
+            {"layers.fovea_deg=0", "layers.half_rate=1"}, {}, only({"layers"}));
+    }
     if (o.hmd && o.width == 0) {
         const vk::EyeDisplay hmd = vk::EyeDisplay::hmd_eye();
         const std::string hmd_name = display_name(hmd, "hmd-eye");
@@ -142,7 +152,18 @@ Result<std::vector<Row>> run_sweep(
         names.insert(names.end(), c.methods.begin(), c.methods.end());
         ro.on_frame = [&](size_t k, int frame, const vk::Foveator& f, const demo::Rgb8& img) {
             // "full" renders first in every frame and always fills the full-resolution G-buffer.
-            if (k == 0) motion = decode_rg16f(device.read_image(f.gbuffer()[vk::GBufferImage::kMotion]));
+            if (k == 0) {
+                motion = decode_rg16f(device.read_image(f.gbuffer()[vk::GBufferImage::kMotion]));
+                // G-buffer motion runs from the unjittered pixel centre to the jittered sample's
+                // previous position; the displayed pixel centres flow by motion + jitter, which
+                // is what back-projecting the previous frame must follow (else every frame is
+                // compared half a pixel off, a floor TAA cannot lower).
+                const auto j = f.jitter(f.stats().frame_index);
+                for (size_t i = 0; i + 1 < motion.size(); i += 2) {
+                    motion[i] += j[0];
+                    motion[i + 1] += j[1];
+                }
+            }
             std::vector<float> luma = luminance(img.rgb, w, h);
             if (frame > 0 && !previous[k].empty())
                 atd[k].push_back(temporal_difference(previous[k], luma, motion, w, h));

@@ -17,6 +17,7 @@ namespace {
 constexpr uint32_t kMomentLevels = 5;  // LOD = 4·S_t reads levels 0..4
 
 struct ResolvePush {
+    float jitter[2];  // first, as in the shader (std430 aligns a vec2 to 8 bytes)
     float alpha;
     float alpha_max;
     float beta;
@@ -59,23 +60,25 @@ public:
         const VkImageUsageFlags mom_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         m1_ = Image(ctx.device, e, fmt, mom_usage, levels);
         m2_ = Image(ctx.device, e, fmt, mom_usage, levels);
-        for (auto& h : hist_) h = Image(ctx.device, e, fmt, VK_IMAGE_USAGE_STORAGE_BIT);
+        for (auto& h : hist_) h = Image(ctx.device, e, fmt, mom_usage);
         for (auto& d : hist_depth_)
             d = Image(ctx.device, e, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
 
+        // Trilinear for the moment chain (LOD = 4·S_t, clamped to the chain like the model),
+        // bilinear for the history's Catmull-Rom taps; clamp to edge as the model's fetch().
         VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-        sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
-        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+        sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
+        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
         sci.addressModeU = sci.addressModeV = sci.addressModeW =
             VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        sci.maxLod = float(levels);
+        sci.maxLod = float(levels - 1);
         VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
         const Binding mom_b[] = {img, img, img, img, img};
         const Binding red_b[] = {img, img, img, img};
-        const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, img};
+        const Binding res_b[] = {img, img, img, img, tex, tex, tex, img, img, img, img};
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
         resolve_ = ctx.builtin_pipeline("taa_resolve" + suffix, res_b, sizeof(ResolvePush), false);
@@ -135,7 +138,7 @@ public:
                 .storage_image(3, f.rate.view)
                 .sampled_image(4, m1_.view(), sampler_)
                 .sampled_image(5, m2_.view(), sampler_)
-                .storage_image(6, hist_[src].view())
+                .sampled_image(6, hist_[src].view(), sampler_)
                 .storage_image(7, hist_depth_[src].view())
                 .storage_image(8, hist_[dst].view())
                 .storage_image(9, hist_depth_[dst].view())
@@ -146,6 +149,8 @@ public:
         ResolvePush push = push_;
         const bool have_history = valid_ && !f.inputs.camera_cut;
         push.flags = (have_history ? 1u : 0u) | (saccade_ ? 2u : 0u);
+        push.jitter[0] = f.jitter_px[0];
+        push.jitter[1] = f.jitter_px[1];
         resolve_.bind(f.cmd, VK_NULL_HANDLE, rit->second, &push, sizeof(push));
         vkCmdDispatch(f.cmd, gx, gy, 1);
         parity_ = dst;

@@ -152,6 +152,34 @@ MipChain taa_moment_chain(const Image& colour, int levels, bool half_storage) {
     return chain;
 }
 
+std::array<float, 4> catmull_rom_5tap(const Image& img, float x, float y) {
+    const float bx = std::floor(x - 0.5f);
+    const float by = std::floor(y - 0.5f);
+    const auto wx = catmull_rom_weights(x - 0.5f - bx);
+    const auto wy = catmull_rom_weights(y - 0.5f - by);
+    const float w12x = wx[1] + wx[2];
+    const float w12y = wy[1] + wy[2];
+    const float c12x = bx + 0.5f + wx[2] / w12x;  // one bilinear fetch for taps 0 and +1
+    const float c12y = by + 0.5f + wy[2] / w12y;
+    const float c0x = bx - 0.5f, c0y = by - 0.5f, c3x = bx + 2.5f, c3y = by + 2.5f;
+    const struct {
+        float x, y, k;
+    } taps[5] = {{c12x, c0y, w12x * wy[0]},
+                 {c0x, c12y, wx[0] * w12y},
+                 {c12x, c12y, w12x * w12y},
+                 {c3x, c12y, wx[3] * w12y},
+                 {c12x, c3y, w12x * wy[3]}};
+    std::array<float, 4> acc{0, 0, 0, 0};
+    float total = 0;
+    for (const auto& t : taps) {
+        total += t.k;
+        for (int c = 0; c < std::min(img.channels, 4); ++c)
+            acc[std::size_t(c)] += t.k * sample_bilinear(img, t.x, t.y, c);
+    }
+    for (float& v : acc) v /= total;
+    return acc;
+}
+
 Image taa_resolve(const TaaFrame& frame, TaaHistory& history, const TaaParams& params) {
     const Image& colour = *frame.colour;
     const int w = colour.width;
@@ -180,8 +208,10 @@ Image taa_resolve(const TaaFrame& frame, TaaHistory& history, const TaaParams& p
             float mx = frame.motion ? frame.motion->at(x, y, 0) : 0.0f;
             float my = frame.motion ? frame.motion->at(x, y, 1) : 0.0f;
             if (!std::isfinite(mx) || !std::isfinite(my)) mx = my = 1e9f;  // treat as off screen
-            const float qx = px - mx;
-            const float qy = py - my;
+            // Without the jitter the history would be fetched half a pixel off, differently
+            // every frame: the converged image would swim by the jitter pattern (flicker).
+            const float qx = px - (mx + frame.jitter.x);
+            const float qy = py - (my + frame.jitter.y);
             const bool on_screen = qx >= 0.0f && qy >= 0.0f && qx < float(w) && qy < float(h);
             bool occluded = !on_screen;
             if (have_history && on_screen && frame.depth) {
@@ -190,23 +220,7 @@ Image taa_resolve(const TaaFrame& frame, TaaHistory& history, const TaaParams& p
                            params.depth_tolerance * std::max(std::fabs(d_cur), 1e-6f);
             }
             if (have_history && !occluded) {
-                // Catmull-Rom over the 4×4 texels around the reprojected position.
-                const float fx = qx - 0.5f;
-                const float fy = qy - 0.5f;
-                const float bx = std::floor(fx);
-                const float by = std::floor(fy);
-                const auto wx = catmull_rom_weights(fx - bx);
-                const auto wy = catmull_rom_weights(fy - by);
-                float acc[4] = {0, 0, 0, 0};
-                for (int j = 0; j < 4; ++j) {
-                    for (int i = 0; i < 4; ++i) {
-                        const float wgt = wx[std::size_t(i)] * wy[std::size_t(j)];
-                        for (int c = 0; c < 4; ++c) {
-                            acc[c] += wgt * history.colour.fetch(int(bx) - 1 + i,
-                                                                 int(by) - 1 + j, c);
-                        }
-                    }
-                }
+                const std::array<float, 4> acc = catmull_rom_5tap(history.colour, qx, qy);
                 // Catmull-Rom rings below zero next to edges; negative light is not a colour.
                 const Vec3 hist_t{std::max(acc[0], 0.0f), std::max(acc[1], 0.0f),
                                   std::max(acc[2], 0.0f)};

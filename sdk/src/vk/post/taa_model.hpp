@@ -63,6 +63,13 @@ Vec3 clip_toward_centre(Vec3 v, const ClampBox& box);
 // Catmull-Rom weights for taps at −1, 0, +1, +2 relative to floor(position), t in [0, 1).
 std::array<float, 4> catmull_rom_weights(float t);
 
+// Catmull-Rom resampling of all channels of `img` at continuous position (x, y) (texel centres
+// at integer + 0.5, clamp to edge), as Jimenez's 5-tap approximation (Filmic SMAA, SIGGRAPH
+// 2016) that the GPU runs with bilinear fetches: the middle taps of each axis merge into one
+// bilinear fetch and the four corner taps of the 4×4 kernel are dropped, weights renormalized.
+// Up to 4 channels.
+std::array<float, 4> catmull_rom_5tap(const Image& img, float x, float y);
+
 struct SaccadeParams {
     float alpha = 0.1f;
     float alpha_max = 1.0f / 3.0f;
@@ -82,13 +89,16 @@ struct TaaParams {
     bool half_storage = false;      // round moments and history to IEEE half (rgba16f path)
 };
 
-// One frame's inputs. motion: 2 channels, pixels, current − previous (the G-buffer contract).
+// One frame's inputs. motion: 2 channels, pixels, current − previous (the G-buffer contract):
+// from the pixel's unjittered centre to the previous position of the surface its jittered
+// sample hit, so the flow of the pixel centre is motion + jitter (as cps and layers read it).
 struct TaaFrame {
     const Image* colour = nullptr;  // ≥ 3 channels, linear, HDR allowed
     const Image* depth = nullptr;   // 1 channel (any monotonic depth; compared relatively)
     const Image* motion = nullptr;  // 2 channels; nullptr = static
     const Image* rate = nullptr;    // 1 channel, normalized shading rate S_t in [0, 1]
     bool camera_cut = false;        // drop all history
+    Jitter jitter{};                // this frame's sub-pixel jitter (pixels)
 };
 
 // Persistent state between frames: tone-mapped RGB + accumulated S (4 ch) and depth.
