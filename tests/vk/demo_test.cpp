@@ -1,4 +1,5 @@
 // The demo scene, the zone-plate target and the comparison runner (issue 5).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -119,6 +120,90 @@ TEST(DemoRunner, CpsMatchesReferenceInTheFoveaOnTheDemoScene) {
     EXPECT_LT(cps.shaded_fraction, 0.6);
     EXPECT_GE(cps.error_figures.psnr_fovea_db, 40.0);
     EXPECT_GT(cps.error_figures.ssim_bands[0], 0.95);
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS();
+}
+
+// The rasterized G-buffer against what a ray-cast through each pixel centre gives: every pixel is
+// either sky (normal = the pixel's ray) or a surface on that ray with consistent distance, depth
+// and unit normal, for the full view and for a cropped, sub-pixel-jittered one (the layers
+// method's views). With the previous camera equal to the current one the motion is -jitter.
+TEST(SceneRenderer, RasterizedGBufferMatchesThePixelRays) {
+    FOVEA_REQUIRE_DEVICE();
+    constexpr uint32_t kW = 320, kH = 180;
+    const auto display = vk::EyeDisplay::from_size(kW, kH, 0.531, 0.299, 0.60);
+    const Camera cam = camera_at(1.0, display);
+    SceneRenderer scene(*device);
+    std::vector<vk::Image> images;
+    vk::GBufferRefs g;
+    g.extent = {kW, kH};
+    for (int i = 0; i < vk::kGBufferImageCount; ++i) {
+        images.emplace_back(*device, g.extent, vk::kGBufferFormats[i], vk::kGBufferUsage);
+        g.images[i] = images.back().ref();
+    }
+    struct Case {
+        std::array<float, 4> crop;
+        std::array<float, 2> jitter;
+    };
+    for (const Case& c : {Case{{0.f, 0.f, 1.f, 1.f}, {0.f, 0.f}},
+                          Case{{0.3f, 0.05f, 0.7f, 0.45f}, {0.3f, -0.2f}}}) {
+        SCOPED_TRACE(testing::Message() << "crop x0 " << c.crop[0] << " jitter " << c.jitter[0]);
+        device->submit_and_wait([&](VkCommandBuffer cmd) {
+            scene.begin_frame();
+            scene.record(cmd, g, SceneKind::kDemo, cam, cam, 1.0, c.crop, c.jitter);
+        });
+        const auto pos = device->read_image(g.images[0]);
+        const auto nrm = device->read_image(g.images[1]);
+        const auto mat = device->read_image(g.images[3]);
+        const auto dep = device->read_image(g.images[4]);
+        const auto mot = device->read_image(g.images[5]);
+        auto f32 = [](const std::vector<uint8_t>& b, size_t i) {
+            float v;
+            std::memcpy(&v, b.data() + 4 * i, 4);
+            return v;
+        };
+        auto f16 = [](const std::vector<uint8_t>& b, size_t i) {
+            return half_to_float(uint16_t(b[2 * i] | b[2 * i + 1] << 8));
+        };
+        int sky = 0, terrain = 0, objects = 0, bad = 0;
+        for (uint32_t y = 0; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x) {
+                const size_t i = size_t{y} * kW + x;
+                const float fx = c.crop[0] + (c.crop[2] - c.crop[0]) * (x + 0.5f + c.jitter[0]) / kW;
+                const float fy = c.crop[1] + (c.crop[3] - c.crop[1]) * (y + 0.5f + c.jitter[1]) / kH;
+                std::array<double, 3> rd{};
+                for (int k = 0; k < 3; ++k)
+                    rd[k] = cam.fwd[k] + cam.right[k] * (2 * fx - 1) * cam.tan_x +
+                            cam.up[k] * (1 - 2 * fy) * cam.tan_y;
+                const double len = std::hypot(rd[0], rd[1], rd[2]);
+                const double n[3] = {f16(nrm, 4 * i), f16(nrm, 4 * i + 1), f16(nrm, 4 * i + 2)};
+                const double dist = f32(pos, 4 * i + 3);
+                const int id = static_cast<int>(f16(mat, 4 * i));
+                bool ok;
+                if (dist == 0.0) {  // sky: the normal carries the pixel's ray
+                    ++sky;
+                    ok = id == 0 && f32(dep, i) == 1.f;
+                    for (int k = 0; k < 3; ++k) ok = ok && std::abs(n[k] - rd[k] / len) < 2e-3;
+                } else {
+                    (id == 1 ? terrain : objects) += 1;
+                    const double p[3] = {f32(pos, 4 * i) - cam.pos[0], f32(pos, 4 * i + 1) - cam.pos[1],
+                                         f32(pos, 4 * i + 2) - cam.pos[2]};
+                    const double along = (p[0] * rd[0] + p[1] * rd[1] + p[2] * rd[2]) / len;
+                    const double off_ray = std::sqrt(std::max(0.0, dist * dist - along * along));
+                    ok = id >= 1 && id <= 5 && std::abs(std::hypot(p[0], p[1], p[2]) - dist) < 1e-3 * dist &&
+                         off_ray < 1e-3 * dist &&
+                         std::abs(f32(dep, i) - (1.0 - 0.1 / dist)) < 1e-5 &&
+                         std::abs(std::hypot(n[0], n[1], n[2]) - 1.0) < 3e-3 &&
+                         std::abs(f16(mot, 2 * i) + c.jitter[0]) < 0.02 &&
+                         std::abs(f16(mot, 2 * i + 1) + c.jitter[1]) < 0.02;
+                }
+                bad += !ok;
+            }
+        EXPECT_EQ(bad, 0);
+        // The fly-over at t = 1 s sees sky, terrain and several objects in both views.
+        EXPECT_GT(sky, 0.02 * kW * kH) << terrain << " " << objects;
+        EXPECT_GT(terrain, 0.2 * kW * kH) << sky << " " << objects;
+        EXPECT_GT(objects, 0.02 * kW * kH) << sky << " " << terrain;
+    }
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
 
