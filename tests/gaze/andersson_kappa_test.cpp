@@ -34,7 +34,7 @@ struct Floor {
 };
 
 const Floor kOffline[] = {
-    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.755, false},
+    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.78, true},
     {"video", "saccade", 0.84, true}, {"img", "fixation", 0.75, true},
     {"dots", "fixation", 0.55, true}, {"video", "fixation", 0.55, true},
     {"img", "pso", 0.65, true},       {"dots", "pso", 0.60, true},

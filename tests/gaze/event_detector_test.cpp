@@ -113,6 +113,13 @@ struct Script {
             sample();
         }
     }
+    void lose(int samples) {
+        for (int i = 0; i < samples; ++i) {
+            DetectorInput d;
+            d.t_s = static_cast<double>(in.size()) / kRate;
+            in.push_back(d);
+        }
+    }
     size_t size() const { return in.size(); }
 };
 
@@ -183,6 +190,45 @@ TEST(EventDetector, FasterMovementInsidePsoWindowIsANewSaccade) {
     EXPECT_EQ(out[first_end - 3].event, Event::kSaccade);
     EXPECT_NE(out[first_end - 3].saccade_id, id) << "two saccades, not one";
     EXPECT_NEAR(out[second_end - 3].saccade.amplitude_deg, 12.0, 1.5);
+}
+
+// Before a blink the tracker may lose the pupil on and off, and the samples between the
+// dropouts jump around: they are undefined (no event), not saccades; the lid's own margin
+// before the loss stays blink, and so does a whole blink that one stray sample splits.
+TEST(EventDetector, DropoutsBeforeABlinkAreUndefinedNotSaccades) {
+    Script s;
+    s.fixate(1.0);
+    const size_t chain_start = s.size();
+    uint64_t seed = 5;
+    for (int k = 0; k < 8; ++k) {  // 80 ms: one lost sample in five, jumps of up to 4 deg
+        s.lose(1);
+        for (int i = 0; i < 4; ++i) {
+            s.x = 4.0 * test::noise(seed);
+            s.sample();
+        }
+    }
+    s.x = 0.0;
+    const size_t loss_start = s.size();
+    s.lose(40);  // an 80 ms blink split by one stray sample, then 80 ms more
+    s.sample();
+    s.lose(40);
+    const size_t loss_end = s.size();
+    s.fixate(1.0);
+    const auto out = detect(s);
+    ASSERT_EQ(out.size(), s.size());
+    const size_t margin = static_cast<size_t>(DetectorParams{}.blink_pre_s * Script::kRate);
+    size_t undefined = 0;
+    for (size_t i = chain_start; i < loss_end; ++i) {
+        EXPECT_NE(out[i].event, Event::kSaccade) << "sample " << i;
+        EXPECT_NE(out[i].event, Event::kPso) << "sample " << i;
+        undefined += i < loss_start - margin && out[i].event == Event::kUnknown;
+    }
+    // (A jump right before the margin may be taken as the lid's artefact: blink.)
+    EXPECT_GE(undefined, (loss_start - margin - chain_start) * 3 / 4);
+    for (size_t i = loss_start - margin + 1; i < loss_end; ++i) {
+        EXPECT_EQ(out[i].event, Event::kBlink) << "sample " << i;
+    }
+    for (size_t i = 0; i + 20 < chain_start; ++i) ASSERT_EQ(out[i].event, Event::kFixation);
 }
 
 TEST(EventDetector, GarbageInputIsLabelledNotPropagated) {

@@ -156,6 +156,9 @@ bool EventDetector::pop(DetectorOutput& out) {
         case Label::kBlink:
             out.event = Event::kBlink;
             break;
+        case Label::kUndefined:  // tracking lost on and off: no event
+            out.event = Event::kUnknown;
+            break;
         default:
             out.event = Event::kUnknown;
             break;
@@ -253,13 +256,27 @@ void EventDetector::update_stats(double v, double dt) {
 }
 
 void EventDetector::mark_blink_back(int64_t c) {
-    const double t0 = at(c).t;
+    const double t_loss = at(c).t;
+    // Before the lid's margin, a closing lid may make the tracker lose the pupil on and off:
+    // samples among such dropouts (each within the margin of the next) are undefined, neither
+    // blink nor the saccades their jumps would look like.
+    double t_dropout = t_loss;
+    bool undefined = false;
     for (int64_t i = c - 1; i >= emit_next_ && i >= base_; --i) {
         Entry& q = at(i);
-        const bool in_margin = t0 - q.t <= p_.blink_pre_s;
+        const bool in_margin = t_loss - q.t <= p_.blink_pre_s;
         const bool artefact = q.label == Label::kSaccade || q.label == Label::kPso;
-        if (!in_margin && !artefact) break;
-        q.label = Label::kBlink;
+        if (!in_margin && (q.lost || q.label == Label::kBlink)) break;  // an earlier blink
+        const bool among_dropouts = t_dropout - q.t <= p_.blink_pre_s;
+        if (!q.valid && among_dropouts) t_dropout = q.t;
+        if (in_margin || (artefact && !undefined)) {
+            q.label = Label::kBlink;
+        } else if (among_dropouts) {
+            q.label = Label::kUndefined;
+            undefined = true;
+        } else {
+            break;
+        }
         invalidate(i);
     }
 }

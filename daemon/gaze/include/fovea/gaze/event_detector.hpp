@@ -17,7 +17,10 @@
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
 //      lack, see daemon/gaze/README.md);
-//   4. blinks from lost samples, extended over the lid's artefacts at both edges.
+//   4. blinks from lost samples, extended over the lid's artefacts at both edges. Before the
+//      lid's margin, samples among on-and-off dropouts (each within the margin of the next)
+//      are undefined (Event::kUnknown, as the coders' "undefined"): their jumps are the
+//      tracker's, not saccades.
 // Online mode holds samples back for a bounded look-ahead and estimates thresholds from the past
 // (learning from stage-2 labels, so saccade/PSO results do not depend on the look-ahead; the
 // position noise starts from a prior so the first samples cannot set it alone); offline mode
@@ -140,7 +143,16 @@ public:
                                           const DetectorParams& params, double nominal_rate_hz);
 
 private:
-    enum class Label : uint8_t { kPending, kInter, kFixation, kPursuit, kSaccade, kPso, kBlink };
+    enum class Label : uint8_t {
+        kPending,
+        kInter,
+        kFixation,
+        kPursuit,
+        kSaccade,
+        kPso,
+        kBlink,
+        kUndefined
+    };
     enum class State : uint8_t { kIdle, kSaccade, kPostSaccade, kPso };
     struct Entry {
         double t, x, y;
