@@ -7,6 +7,7 @@
 namespace fovea::vk::methods {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr double kOmega0 = 1.0 / 48.0;
 constexpr double kSlopeA = 0.0275;
 constexpr double kSlopeB = 0.022;
@@ -149,6 +150,71 @@ TEST(GuenterLayers, MinimumInnerRadiusKeepsAFullRateFoveaAtAPrice) {
     EXPECT_GE(fovea_plan.layers[0].radius_deg, o.min_inner_deg);
     EXPECT_GT(fovea_plan.work, free_plan.work);
     EXPECT_LT(fovea_plan.shaded_fraction(), 0.5);  // still far below full rate
+}
+
+TEST(GuenterLayers, PortraitDisplayIsMeasuredAlongItsLongerAxis) {
+    // Guenter fn. 8: for a portrait display width and resolution are those of the vertical axis.
+    // The HMD eye (1440 x 1600, 98 x 104 degrees) and the same panel turned landscape.
+    const LayerDisplay portrait = layer_display_for(1440, 1600, 98.0, 104.0);
+    const LayerDisplay landscape = layer_display_for(1600, 1440, 104.0, 98.0);
+    EXPECT_EQ(portrait.resolution_px, 1600);
+    EXPECT_NEAR(portrait.aspect, 0.9, 1e-12);
+    EXPECT_NEAR(display_radius_deg(portrait), 52.0, 1e-9);
+    EXPECT_EQ(landscape.resolution_px, portrait.resolution_px);
+    EXPECT_DOUBLE_EQ(landscape.width_cm, portrait.width_cm);
+    EXPECT_DOUBLE_EQ(landscape.aspect, portrait.aspect);
+    LayerOptions o;
+    o.slope = kSlopeB;
+    const auto p = optimise_layers(portrait, o);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    const LayerPlan l = *optimise_layers(landscape, o);
+    ASSERT_EQ(p->layers.size(), l.layers.size());
+    for (std::size_t i = 0; i < l.layers.size(); ++i)
+        EXPECT_DOUBLE_EQ(p->layers[i].radius_deg, l.layers[i].radius_deg) << i;
+    // The outer layer covers the whole 1440 x 1600 panel: P_n = α* D_n² = (1440/s)(1600/s).
+    const Layer& outer = p->layers.back();
+    EXPECT_NEAR(outer.pixels, 1440.0 * 1600.0 / (outer.sampling_factor * outer.sampling_factor),
+                1e-6);
+    EXPECT_DOUBLE_EQ(p->display_pixels, 1440.0 * 1600.0);
+    EXPECT_GT(p->speedup(), 1.0);
+    // A square display is both: aspect 1.
+    EXPECT_DOUBLE_EQ(layer_display_for(1000, 1000, 90.0, 90.0).aspect, 1.0);
+}
+
+TEST(GuenterLayers, InnerRadiusForFoveaCoversItFromAnyGazePoint) {
+    // Brute force over gaze points and directions on the study display: every pixel within the
+    // fovea's eccentricity lies inside the full-weight 60 % of the inner layer's pixel radius,
+    // and at the corner the bound is tight.
+    const LayerDisplay d;
+    const double fovea = 5.0;
+    const double e1 = inner_radius_for_fovea(d, fovea, 0.6);
+    const double f = 0.5 * d.resolution_px / std::tan(display_radius_deg(d) * kPi / 180.0);
+    const double full_weight_px = 0.6 * f * std::tan(e1 * kPi / 180.0);  // Eq. 3 radius, 60 %
+    const double w = d.resolution_px, h = d.aspect * d.resolution_px;
+    auto angle_deg = [&](double x0, double y0, double x1, double y1) {
+        const double ax = x0 - 0.5 * w, ay = y0 - 0.5 * h, bx = x1 - 0.5 * w, by = y1 - 0.5 * h;
+        const double la = std::sqrt(ax * ax + ay * ay + f * f);
+        const double lb = std::sqrt(bx * bx + by * by + f * f);
+        const double c = (ax * bx + ay * by + f * f) / (la * lb);
+        return std::acos(std::min(1.0, c)) * 180.0 / kPi;
+    };
+    double tightest = 1e9;
+    for (double gx = 0; gx <= w; gx += w / 16)
+        for (double gy = 0; gy <= h; gy += h / 9)
+            for (int k = 0; k < 64; ++k) {
+                const double a = 2.0 * kPi * k / 64;
+                // The pixel just outside the full-weight disc is at least `fovea` away.
+                const double e = angle_deg(gx, gy, gx + full_weight_px * std::cos(a),
+                                           gy + full_weight_px * std::sin(a));
+                EXPECT_GE(e, fovea - 1e-9) << gx << "," << gy << " dir " << k;
+                tightest = std::min(tightest, e);
+            }
+    EXPECT_NEAR(tightest, fovea, 0.02);
+    // At the display centre alone fovea / 0.6 would do; the corners need more.
+    EXPECT_GT(e1, fovea / 0.6);
+    LayerOptions o;
+    o.min_inner_deg = e1;
+    EXPECT_GE(optimise_layers(d, o)->layers[0].radius_deg, e1);
 }
 
 TEST(GuenterLayers, RejectsBadInput) {

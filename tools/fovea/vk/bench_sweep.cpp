@@ -108,10 +108,11 @@ std::vector<Config> sweep_configs(const SweepOptions& o) {
     if (o.width == 0) {
         // Guenter's study monitor (V* = 59 cm, W* = 51 cm, D* = 1920): pure §4.3 layers at
         // quality B, every layer every frame and outer layers at half rate (the ≤ 1/8 target).
-        const vk::EyeDisplay study = vk::EyeDisplay::from_size(1920, 1080, 0.51, 0.51 * 9 / 16, 0.59);
+        const vk::EyeDisplay study =
+            vk::EyeDisplay::from_size(1920, 1080, 0.51, 0.51 * 9 / 16, 0.59);
         const std::string study_name = display_name(study, "guenter-study");
-        add("guenter B", study, study_name, {"acuity.mar_slope=0.022"}, {"layers.fovea_deg=0"}, {},
-            only({"layers"}));
+        add("guenter B", study, study_name, {"acuity.mar_slope=0.022"}, {"layers.fovea_deg=0"},
+            {}, only({"layers"}));
         add("guenter B half", study, study_name, {"acuity.mar_slope=0.022"},
             {"layers.fovea_deg=0", "layers.half_rate=1"}, {}, only({"layers"}));
     }

@@ -84,6 +84,43 @@ LayerDisplay acuity_matched_display(double fov_deg, double aspect, double omega0
     return d;
 }
 
+LayerDisplay layer_display_for(int width_px, int height_px, double fov_h_deg, double fov_v_deg) {
+    const bool portrait = height_px > width_px;
+    LayerDisplay d;
+    d.resolution_px = portrait ? height_px : width_px;
+    d.distance_cm = 1.0;  // only W*/V* matters
+    d.width_cm = 2.0 * std::tan((portrait ? fov_v_deg : fov_h_deg) * 0.5 * kDegToRad);
+    d.aspect = portrait ? double(width_px) / height_px : double(height_px) / width_px;
+    return d;
+}
+
+double inner_radius_for_fovea(const LayerDisplay& d, double fovea_deg, double reach) {
+    // In focal lengths on the image plane: the display spans ±hx by ±hy around the axis.
+    const double hx = std::tan(display_radius_deg(d) * kDegToRad), hy = d.aspect * hx;
+    const double cos_fovea = std::cos(fovea_deg * kDegToRad);
+    auto cos_angle = [](double ax, double ay, double bx, double by) {
+        return (ax * bx + ay * by + 1.0) /
+               std::sqrt((ax * ax + ay * ay + 1.0) * (bx * bx + by * by + 1.0));
+    };
+    // The farthest, over every direction from the corner gaze, that a point `fovea_deg` away
+    // lies (by symmetry one corner serves all four; the steepest direction is not the
+    // diagonal, so search them).
+    double span = 0.0;
+    constexpr int kDirections = 1440;
+    for (int k = 0; k < kDirections; ++k) {
+        const double a = 2.0 * kPi * k / kDirections;
+        const double ux = std::cos(a), uy = std::sin(a);
+        double lo = 0.0, hi = 4.0 * std::hypot(hx, hy) + 4.0;  // the angle grows along the line
+        if (cos_angle(hx, hy, hx + hi * ux, hy + hi * uy) > cos_fovea) continue;  // never reached
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (cos_angle(hx, hy, hx + mid * ux, hy + mid * uy) > cos_fovea ? lo : hi) = mid;
+        }
+        span = std::max(span, hi);
+    }
+    return std::atan(span / reach) * kRadToDeg;
+}
+
 LayerPlan evaluate_layers(const LayerDisplay& d, const LayerOptions& o,
                           const std::vector<double>& radii_deg) {
     const double omega_star = sharpness_deg(d);
@@ -119,7 +156,9 @@ Result<LayerPlan> optimise_layers(const LayerDisplay& d, const LayerOptions& o) 
         return make_error("MAR slope and omega0 must be positive");
     if (d.resolution_px <= 0 || !(d.width_cm > 0.0) || !(d.distance_cm > 0.0) ||
         !(d.aspect > 0.0) || d.aspect > 1.0)
-        return make_error("display needs positive size, distance, resolution and aspect <= 1");
+        return make_error(
+            "display needs positive size, distance, resolution and aspect <= 1 (measure a "
+            "portrait display along its longer axis: layer_display_for)");
     if (o.steps < o.layer_count) return make_error("too few discretisation steps");
     if (!(o.min_inner_deg >= 0.0)) return make_error("min_inner_deg must be >= 0");
 

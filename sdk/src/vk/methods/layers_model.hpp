@@ -11,13 +11,19 @@
 
 namespace fovea::vk::methods {
 
-// The display as Guenter parameterises it (landscape: aspect = height / width <= 1).
+// The display as Guenter parameterises it, measured along its longer axis (his footnote 8:
+// for a portrait display width and resolution are those of the vertical axis), so that
+// aspect = shorter / longer <= 1 for every display.
 struct LayerDisplay {
-    int resolution_px = 1920;   // D*: horizontal resolution
-    double width_cm = 51.0;     // W*
+    int resolution_px = 1920;   // D*: resolution along the longer axis
+    double width_cm = 51.0;     // W*: size along the longer axis
     double distance_cm = 59.0;  // V*
     double aspect = 9.0 / 16.0; // α*
 };
+
+// A display of `width_px` x `height_px` pixels spanning `fov_h_deg` x `fov_v_deg` (symmetric
+// planar projection), oriented along its longer axis: landscape and portrait alike.
+LayerDisplay layer_display_for(int width_px, int height_px, double fov_h_deg, double fov_v_deg);
 
 double display_radius_deg(const LayerDisplay& d);  // e*, Eq. 6
 double sharpness_deg(const LayerDisplay& d);       // ω*, Eq. 7 (degrees per cycle = 2 pixels)
@@ -25,6 +31,12 @@ double sharpness_deg(const LayerDisplay& d);       // ω*, Eq. 7 (degrees per cy
 double resolution_for_fov(double fov_deg, double omega0_deg);
 // A display of field of view `fov_deg` and aspect `aspect` whose sharpness equals ω0 (Fig. 12).
 LayerDisplay acuity_matched_display(double fov_deg, double aspect, double omega0_deg);
+
+// The smallest inner radius e_1 (Eq. 3's measure: the angle at the display centre) whose layer
+// covers, within the inner `reach` fraction of its radius (0.6: where its blend starts), every
+// point within `fovea_deg` of the gaze wherever the gaze is. A degree spans the most pixels at
+// the corners of a planar display, so the worst case is a gaze at a corner looking inwards.
+double inner_radius_for_fovea(const LayerDisplay& d, double fovea_deg, double reach);
 
 struct LayerOptions {
     int layer_count = 3;                // n, 2..4
