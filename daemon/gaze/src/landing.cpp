@@ -93,6 +93,45 @@ double LandingPredictor::amplitude_from_deceleration(double t, double d, double 
     return std::clamp(a, std::max(d, 1e-3), std::max(d, p_.max_amplitude_deg));
 }
 
+double LandingPredictor::amplitude_from_peak(double t, double d, double v, double vp) const {
+    if (!(vp > 0.0) || !(v < p_.peak_passed_ratio * vp)) return kNaN;
+    // A = d + c v (r A / Vp - t)  =>  A (1 - c v r / Vp) = d - c v t; v < Vp keeps the
+    // denominator above 1 - c r (> 0 for c r < 1).
+    const double cv = p_.deceleration_factor * std::max(0.0, v);
+    const double den = 1.0 - cv * p_.peak_to_mean_speed / vp;
+    if (!(den > 0.05)) return kNaN;
+    const double a = (d - cv * t) / den;
+    return std::clamp(a, std::max(d, 1e-3), std::max(d, p_.max_amplitude_deg));
+}
+
+namespace {
+
+// Least-squares line through samples [from, to) of the projected track: slope and the value
+// at t_s[to - 1].
+struct Line {
+    double slope, end_value;
+};
+Line fit_line(std::span<const double> t_s, const double* along, size_t from, size_t to) {
+    const double m = static_cast<double>(to - from);
+    double tm = 0, pm = 0;
+    for (size_t i = from; i < to; ++i) {
+        tm += t_s[i];
+        pm += along[i];
+    }
+    tm /= m;
+    pm /= m;
+    double stt = 0, stp = 0;
+    for (size_t i = from; i < to; ++i) {
+        stt += (t_s[i] - tm) * (t_s[i] - tm);
+        stp += (t_s[i] - tm) * (along[i] - pm);
+    }
+    if (!(stt > 0)) return {kNaN, kNaN};
+    const double slope = stp / stt;
+    return {slope, pm + slope * (t_s[to - 1] - tm)};
+}
+
+}  // namespace
+
 LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
                                           std::span<const double> x_deg,
                                           std::span<const double> y_deg) const {
@@ -109,29 +148,32 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     // pulled off by the curved start of oblique saccades).
     const double ux = dx / d_now, uy = dy / d_now;
 
-    // Current displacement and speed along that direction: a line through the newest samples
-    // (one noisy sample would set both).
-    const size_t m = std::min(n, static_cast<size_t>(std::max(2, p_.speed_fit_samples)));
-    double tm = 0, pm = 0;
-    for (size_t i = n - m; i < n; ++i) {
-        tm += t_s[i];
-        pm += (x_deg[i] - x0) * ux + (y_deg[i] - y0) * uy;
+    // Displacement and speed along that direction from lines through the newest samples (one
+    // noisy sample would set both); the same fit over earlier windows gives the peak speed.
+    constexpr size_t kMaxSamples = 512;  // 1 s at 500 Hz: longer "saccades" use the newest
+    const size_t first = n > kMaxSamples ? n - kMaxSamples : 0;
+    double along[kMaxSamples];
+    const size_t count = n - first;
+    for (size_t i = 0; i < count; ++i)
+        along[i] = (x_deg[first + i] - x0) * ux + (y_deg[first + i] - y0) * uy;
+    const auto ts = t_s.subspan(first, count);
+    const size_t m = std::min(count, static_cast<size_t>(std::max(2, p_.speed_fit_samples)));
+    const Line now = fit_line(ts, along, count - m, count);
+    if (!std::isfinite(now.slope) || !std::isfinite(now.end_value)) return est;
+    const double v = std::max(0.0, now.slope);
+    const double d = std::max(1e-3, now.end_value);
+    double peak = 0.0;  // highest speed of the earlier windows (the newest one is v)
+    for (size_t end = m; end < count; ++end) {
+        const double s = fit_line(ts, along, end - m, end).slope;
+        if (std::isfinite(s)) peak = std::max(peak, s);
     }
-    tm /= static_cast<double>(m);
-    pm /= static_cast<double>(m);
-    double stt = 0, stp = 0;
-    for (size_t i = n - m; i < n; ++i) {
-        const double p = (x_deg[i] - x0) * ux + (y_deg[i] - y0) * uy;
-        stt += (t_s[i] - tm) * (t_s[i] - tm);
-        stp += (t_s[i] - tm) * (p - pm);
-    }
-    if (!(stt > 0) || !std::isfinite(stp)) return est;
-    const double v = std::max(0.0, stp / stt);
-    const double d = std::max(1e-3, pm + (stp / stt) * (t_now - tm));
 
     const double a_profile = amplitude_from_profile(t_now, d, v);
     const double a_decel = amplitude_from_deceleration(t_now, d, v);
-    const double amp = std::sqrt(a_profile * a_decel);
+    const double a_peak = amplitude_from_peak(t_now, d, v, peak);
+    const bool peaked = std::isfinite(a_peak);
+    const double amp = peaked ? std::cbrt(a_profile * a_decel * a_peak)
+                              : std::sqrt(a_profile * a_decel);
     if (!std::isfinite(amp)) return est;
     const double dur = duration_s(amp);
     est.valid = true;
@@ -142,7 +184,9 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     est.y_deg = y0 + uy * amp;
     // Uncertainty: the estimates' disagreement, and the main-sequence spread applied to the
     // distance still to go; both vanish as the saccade completes.
-    const double disagreement = 0.5 * std::fabs(a_profile - a_decel);
+    const double hi = std::max({a_profile, a_decel, peaked ? a_peak : a_decel});
+    const double lo = std::min({a_profile, a_decel, peaked ? a_peak : a_decel});
+    const double disagreement = 0.5 * (hi - lo);
     const double unseen = p_.model_spread * std::max(0.0, amp - d);
     est.uncertainty_deg = std::hypot(disagreement, unseen, p_.position_noise_deg);
     return est;
