@@ -3,12 +3,15 @@
 // minus 0.02 (a regression floor, marked "below target"; README.md has the honest numbers).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 
+#include "../support/child_process.hpp"
 #include "fovea/gaze/labelled.hpp"
 
 namespace fovea::gaze {
@@ -95,6 +98,64 @@ TEST(Agreement, KappaMatchesHandComputedExample) {
     for (int i = 0; i < 65; ++i) a.add(false, false);
     EXPECT_NEAR(a.kappa(), (0.85 - 0.6) / 0.4, 1e-12);
     EXPECT_TRUE(std::isnan(Agreement{}.kappa()));
+}
+
+// `fovea eval-events --per-file --dump`: the per-recording table and one CSV per recording with
+// the detector's event next to each coder's label, on a generated pair of labelled files.
+TEST(EvalEventsCli, PerFileTableAndDumpCarryDetectionsAndCoderLabels) {
+    const std::string& fovea = fovea::testing::kFoveaBinary;
+    if (!std::filesystem::exists(fovea)) GTEST_SKIP() << "no fovea binary at " << fovea;
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("fovea_eval_events_cli_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "in");
+    const int n = 1500, onset = 700, len = 20;  // 500 Hz; a 300 px saccade at sample 700
+    for (const char* coder : {"MN", "RA"}) {
+        std::FILE* f = std::fopen(
+            (dir / "in" / ("img__SYN_labelled_" + std::string(coder) + ".csv")).c_str(), "w");
+        ASSERT_NE(f, nullptr);
+        std::fprintf(f,
+                     "# sampFreq=500 viewDist_m=0.67 screenDim_m=0.38,0.3 "
+                     "screenRes_px=1024,768\nt_us,pupil_h,pupil_v,x_px,y_px,label\n");
+        const int shift = coder[0] == 'R' ? 1 : 0;  // the coders disagree by one sample
+        for (int i = 0; i < n; ++i) {
+            const double tau = std::clamp((i - onset) / static_cast<double>(len), 0.0, 1.0);
+            const double x = 350.0 + 300.0 * tau * tau * tau * (10 - 15 * tau + 6 * tau * tau) +
+                             0.3 * std::sin(i * 1.7);
+            const bool sacc = i >= onset + shift && i < onset + len + shift;
+            std::fprintf(f, "%d,20,20,%.3f,%.3f,%d\n", i * 2000, x, 380.0 + 0.3 * std::cos(i),
+                         sacc ? 2 : 1);
+        }
+        std::fclose(f);
+    }
+    auto p = fovea::testing::spawn_logged(
+        fovea,
+        {"eval-events", (dir / "in").string(), "--per-file", "--dump", (dir / "out").string()},
+        (dir / "stdout").string(), (dir / "stderr").string());
+    ASSERT_EQ(p->wait(), 0) << p->err();
+    EXPECT_NE(p->out().find("SYN_labelled"), std::string::npos) << p->out();
+    std::ifstream dump(dir / "out" / "img__SYN_labelled.csv");
+    ASSERT_TRUE(dump.good());
+    std::string line;
+    std::getline(dump, line);
+    EXPECT_EQ(line, "i,t_s,x_px,y_px,det,MN,RA");
+    int rows = 0, detected = 0, mn = 0, ra = 0;
+    while (std::getline(dump, line)) {
+        int i = 0, det = 0, a = 0, b = 0;
+        double t = 0, x = 0, y = 0;
+        ASSERT_EQ(
+            std::sscanf(line.c_str(), "%d,%lf,%lf,%lf,%d,%d,%d", &i, &t, &x, &y, &det, &a, &b), 7)
+            << line;
+        EXPECT_EQ(i, rows++);
+        detected += det == 2 && i >= onset && i < onset + len;
+        mn += a == 2;
+        ra += b == 2 && i > onset;
+    }
+    EXPECT_EQ(rows, n);
+    EXPECT_EQ(mn, len);
+    EXPECT_EQ(ra, len);
+    EXPECT_GE(detected, len * 3 / 4);
+    std::filesystem::remove_all(dir);
 }
 
 TEST(LabelledCsv, BadFilesAreErrorsNotCrashes) {
