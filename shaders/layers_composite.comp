@@ -73,9 +73,12 @@ void main() {
         c = mix(c, LAYER_SAMPLE(layer1, t1), w);
         s = w >= 0.5 ? table.layer[1].a.z : s;
     }
-    float w0 = layer_weight(table.layer[0], pc);
-    Tap t0 = layer_tap(table.layer[0], pc);
-    c = mix(c, LAYER_SAMPLE(layer0, t0), w0);
+    // The inner layer is at s = 1 on a crop snapped to whole pixels: each display pixel is one
+    // texel, so one load replaces the bilinear tap (a quarter of the loads, and no weights).
+    LayerInfo li = table.layer[0];
+    float w0 = layer_weight(li, pc);
+    ivec2 t0 = clamp(ivec2(floor(pc - li.a.xy)), ivec2(0), ivec2(li.b.xy) - 1);
+    c = mix(c, imageLoad(layer0, t0).rgb, w0);
     s = w0 >= 0.5 ? table.layer[0].a.z : s;
     imageStore(fovea_out_color, p, vec4(c, 1.0));
     imageStore(fovea_out_rate, p, vec4(clamp(log2(s) * 0.5, 0.0, 1.0)));
