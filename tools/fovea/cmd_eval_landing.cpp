@@ -1,6 +1,7 @@
 // `fovea eval-landing DIR [--json]`: landing-point error of the in-flight saccade predictor on
 // hand-labelled saccades > 2 deg, at 25/50/75 % of each saccade's labelled duration, against the
-// naive "current position" baseline.
+// naive "current position" baseline, and how well the predictor's own 1-sigma uncertainty radius
+// covers its error (median radius, share of errors inside it).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +26,8 @@ constexpr double kMinAmplitude = 2.0;
 
 struct Errors {
     std::vector<double> pred[3], naive[3];
+    std::vector<double> radius[3];  // predictor's uncertainty where it made an estimate
+    size_t covered[3] = {};         // ... and its error was inside that radius
 };
 
 double median(std::vector<double> v) {
@@ -79,18 +82,27 @@ int run(const Options& o) {
                     y.push_back(in[k].y_deg);
                 }
                 const double naive = std::hypot(x.back() - lx, y.back() - ly);
-                const gaze::LandingEstimate e = predictor.predict(t, x, y);
+                const gaze::LandingEstimate e_est = predictor.predict(t, x, y);
                 // No estimate yet (too few samples): the predictor falls back to the position.
-                const double err = e.valid ? std::hypot(e.x_deg - lx, e.y_deg - ly) : naive;
-                all.pred[q].push_back(err);
-                all.naive[q].push_back(naive);
-                if (amp > 5.0) {
-                    big.pred[q].push_back(err);
-                    big.naive[q].push_back(naive);
+                const double err =
+                    e_est.valid ? std::hypot(e_est.x_deg - lx, e_est.y_deg - ly) : naive;
+                for (Errors* e : {&all, amp > 5.0 ? &big : nullptr}) {
+                    if (!e) continue;
+                    e->pred[q].push_back(err);
+                    e->naive[q].push_back(naive);
+                    if (e_est.valid) {
+                        e->radius[q].push_back(e_est.uncertainty_deg);
+                        e->covered[q] += err <= e_est.uncertainty_deg;
+                    }
                 }
             }
         }
     }
+    auto coverage = [](const Errors& e, int q) {
+        return e.radius[q].empty() ? NAN
+                                   : static_cast<double>(e.covered[q]) /
+                                         static_cast<double>(e.radius[q].size());
+    };
     auto block = [&](const Errors& e) {
         nlohmann::json j;
         j["saccades"] = e.pred[0].size();
@@ -98,6 +110,8 @@ int run(const Options& o) {
             const std::string key = std::to_string(static_cast<int>(kFractions[q] * 100));
             j[key]["predictor"] = median(e.pred[q]);
             j[key]["current"] = median(e.naive[q]);
+            j[key]["uncertainty"] = median(e.radius[q]);
+            j[key]["within_uncertainty"] = coverage(e, q);
         }
         return j;
     };
@@ -122,6 +136,9 @@ int run(const Options& o) {
     row("> 2 deg  current position", all.naive);
     row("> 5 deg  predictor", big.pred);
     row("> 5 deg  current position", big.naive);
+    row("> 5 deg  uncertainty (1 sigma)", big.radius);
+    std::printf("%-30s %7.0f%% %7.0f%% %7.0f%%\n", "> 5 deg  error within it", 100 * coverage(big, 0),
+                100 * coverage(big, 1), 100 * coverage(big, 2));
     std::printf("target: > 5 deg predictor at 50%% <= 1.00 deg\n");
     return 0;
 }
