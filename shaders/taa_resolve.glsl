@@ -1,6 +1,6 @@
 // TAA pass 3: variance-sampled resolve (Patney §4.2–4.3). Clamp box μ ± γσ from the moment chain
-// at LOD = 4·S_t (the sampler's trilinear filter: one fetch per moment image instead of eight
-// texel loads), grown to contain the current sample; history fetched with Catmull-Rom and clipped
+// at LOD = 4·S_t (levels ≥ 1 through the sampler's trilinear filter: one fetch per moment image;
+// level 0, a pixel's own 3×3 window, computed here where LOD < 1, i.e. only in the fovea), grown to contain the current sample; history fetched with Catmull-Rom and clipped
 // toward the box centre in YCoCg; saccade-aware α from the accumulated S in the history's alpha;
 // disocclusion from depth and from motion leaving the screen. Mirrors taa_resolve() in
 // sdk/src/vk/post/taa_model.cpp.
@@ -14,7 +14,7 @@ layout(set = 0, binding = 0, rgba16f) uniform readonly image2D color_in;
 layout(set = 0, binding = 1, r32f) uniform readonly image2D depth_in;
 layout(set = 0, binding = 2, rg16f) uniform readonly image2D motion_in;
 layout(set = 0, binding = 3, r16f) uniform readonly image2D rate_in;
-layout(set = 0, binding = 4) uniform sampler2D m1_tex;  // trilinear, clamp to edge
+layout(set = 0, binding = 4) uniform sampler2D m1_tex;  // chain levels 1.., trilinear, clamp
 layout(set = 0, binding = 5) uniform sampler2D m2_tex;
 layout(set = 0, binding = 6) uniform sampler2D hist_in;  // bilinear, clamp to edge
 layout(set = 0, binding = 7, r32f) uniform readonly image2D hist_depth_in;
@@ -91,9 +91,30 @@ void main() {
         float s_prev = clamp(acc.a, 0.0, 1.0);
 
         float lod = 4.0 * s_cur;
+        lod = min(lod, float(pc.levels - 1));
         vec2 uv = px / full;
-        vec3 m1 = textureLod(m1_tex, uv, lod).xyz;  // the sampler clamps LOD to the chain
-        vec3 m2 = textureLod(m2_tex, uv, lod).xyz;
+        vec3 m1, m2;
+        if (lod >= 1.0) {
+            m1 = textureLod(m1_tex, uv, lod - 1.0).xyz;  // image mip k holds chain level k + 1
+            m2 = textureLod(m2_tex, uv, lod - 1.0).xyz;
+        } else {
+            vec3 a1 = vec3(0.0);
+            vec3 a2 = vec3(0.0);
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    ivec2 n = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+                    vec3 c = taa_rgb_to_ycocg(taa_tonemap(imageLoad(color_in, n).rgb));
+                    a1 += c;
+                    a2 += c * c;
+                }
+            }
+            m1 = a1 * (1.0 / 9.0);
+            m2 = a2 * (1.0 / 9.0);
+            if (lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
+                m1 += (textureLod(m1_tex, uv, 0.0).xyz - m1) * lod;
+                m2 += (textureLod(m2_tex, uv, 0.0).xyz - m2) * lod;
+            }
+        }
         vec3 sigma = sqrt(max(m2 - m1 * m1, vec3(0.0)));  // never a negative variance
         vec3 lo = min(m1 - pc.gamma * sigma, cur_q);
         vec3 hi = max(m1 + pc.gamma * sigma, cur_q);

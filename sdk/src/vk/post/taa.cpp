@@ -1,5 +1,6 @@
 // Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as three
-// compute stages (moments with mip level 1 fused in, the rest of the moment mip chain, resolve). The CPU reference is taa_model.cpp; the
+// compute stages (moments straight at mip level 1, the rest of the moment mip chain, resolve,
+// which computes level 0 itself where it reads it). The CPU reference is taa_model.cpp; the
 // shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
 // taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
 // taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
@@ -58,8 +59,12 @@ public:
         }
         push_.levels = int32_t(levels);
         const VkImageUsageFlags mom_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-        m1_ = Image(ctx.device, e, fmt, mom_usage, levels);
-        m2_ = Image(ctx.device, e, fmt, mom_usage, levels);
+        // Chain levels 1..levels-1 (mip k = level k + 1; Vulkan mip sizes of the full extent).
+        // A 1×1 frame has level 0 only: one unread texel keeps the descriptors valid.
+        const VkExtent2D half_extent{std::max(1u, e.width / 2), std::max(1u, e.height / 2)};
+        const uint32_t stored = std::max(1u, levels - 1);
+        m1_ = Image(ctx.device, half_extent, fmt, mom_usage, stored);
+        m2_ = Image(ctx.device, half_extent, fmt, mom_usage, stored);
         for (auto& h : hist_) h = Image(ctx.device, e, fmt, mom_usage);
         for (auto& d : hist_depth_)
             d = Image(ctx.device, e, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
@@ -71,19 +76,19 @@ public:
         sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
         sci.addressModeU = sci.addressModeV = sci.addressModeW =
             VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        sci.maxLod = float(levels - 1);
+        sci.maxLod = float(stored - 1);
         VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-        const Binding mom_b[] = {img, img, img, img, img};
+        const Binding mom_b[] = {img, img, img};
         const Binding red_b[] = {img, img, img, img};
         const Binding res_b[] = {img, img, img, img, tex, tex, tex, img, img, img, img};
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
         resolve_ = ctx.builtin_pipeline("taa_resolve" + suffix, res_b, sizeof(ResolvePush), false);
-        // Level 1 comes from the moments pass; level 1 -> 2 onwards are reductions.
-        for (uint32_t l = 1; l + 1 < levels; ++l) {
+        // Mip 0 (level 1) comes from the moments pass; the rest are 2×2 reductions.
+        for (uint32_t l = 0; l + 1 < stored; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();
             DescriptorWriter(device_, s)
                 .storage_image(0, m1_.mip_view(l))
@@ -108,19 +113,18 @@ public:
                 .storage_image(0, f.color_in.view)
                 .storage_image(1, m1_.mip_view(0))
                 .storage_image(2, m2_.mip_view(0))
-                .storage_image(3, m1_.mip_view(std::min(1u, m1_.mip_levels() - 1)))
-                .storage_image(4, m2_.mip_view(std::min(1u, m2_.mip_levels() - 1)))
                 .commit();
             mit = moment_sets_.emplace(f.color_in.view, s).first;
         }
         moments_.bind(f.cmd, VK_NULL_HANDLE, mit->second);
-        vkCmdDispatch(f.cmd, gx, gy, 1);
+        vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width / 2), 8),
+                      div_up(std::max(1u, e.height / 2), 8), 1);
         compute_barrier(f.cmd);
         for (uint32_t i = 0; i < reduce_sets_.size(); ++i) {
-            const uint32_t l = i + 1;  // source level
+            const uint32_t dst = i + 2;  // chain level written
             reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[i]);
-            vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)) + 1, 8),
-                          div_up(std::max(1u, e.height >> (l + 1)) + 1, 8), 1);
+            vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> dst), 8),
+                          div_up(std::max(1u, e.height >> dst), 8), 1);
             compute_barrier(f.cmd);
         }
 

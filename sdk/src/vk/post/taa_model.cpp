@@ -140,7 +140,8 @@ MipChain taa_moment_chain(const Image& colour, int levels, bool half_storage) {
         for (int x = 0; x < colour.width; ++x) {
             const Moments m = moments_3x3(ycocg, x, y);
             const float v[6] = {m.m1.x, m.m1.y, m.m1.z, m.m2.x, m.m2.y, m.m2.z};
-            for (int c = 0; c < 6; ++c) mom.at(x, y, c) = store(v[c], half_storage);
+            // Level 0 is never stored on the GPU (the resolve computes it in float).
+            for (int c = 0; c < 6; ++c) mom.at(x, y, c) = v[c];
         }
     }
     MipChain chain = build_box_mips(std::move(mom), levels);
