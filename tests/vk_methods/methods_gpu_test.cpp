@@ -307,7 +307,7 @@ TEST(LayersGpu, GazeSweepAndJumpsLeaveNoSeamBetweenLayers) {
     MethodHarness full(*dev, kW, kH, "full");
     MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
     ASSERT_TRUE(m.ok()) << m.error();
-    int seams = 0, checked = 0, bad_frames = 0;
+    int seams = 0, checked = 0, bad_frames = 0, outside_crop = 0;
     for (int f = 0; f < frames; ++f) {
         float gx = 0.5f + 0.45f * std::sin(f * 0.21f), gy = 0.5f + 0.4f * std::cos(f * 0.13f);
         if (f % 7 == 6) {  // a saccade to a far point
@@ -339,10 +339,28 @@ TEST(LayersGpu, GazeSweepAndJumpsLeaveNoSeamBetweenLayers) {
                             gx, gy, ri, edge, outside);
             }
         }
+        // Every on-screen pixel an inner layer's mask reaches lies inside that layer's crop (else
+        // the composite would smear the crop's border texels), up to the half texel by which the
+        // crop snaps to its texel grid (where the mask weight is ~0): the crops follow the gaze
+        // to the display's edges and corners.
+        FrameInputs in;
+        in.gaze.x = gx;
+        in.gaze.y = gy;
+        const std::vector<ViewRequest> views = m.foveator().views(uint64_t(f), in);
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const auto& c = views[i].crop;
+            const double slack = 0.5 * (c[2] - c[0]) * kW / views[i].gbuffer.extent.width + 1e-3;
+            const double x0 = std::max(0.0, cx - r[i]), x1 = std::min(double(kW), cx + r[i]);
+            const double y0 = std::max(0.0, cy - r[i]), y1 = std::min(double(kH), cy + r[i]);
+            if (x0 < c[0] * kW - slack || x1 > c[2] * kW + slack || y0 < c[1] * kH - slack ||
+                y1 > c[3] * kH + slack)
+                ++outside_crop;
+        }
     }
     std::printf("layers sweep: %d layer edges checked over %d frames\n", checked, frames);
     EXPECT_GT(checked, frames / 2);
     EXPECT_EQ(seams, 0);
+    EXPECT_EQ(outside_crop, 0) << "layer masks reaching past their crops";
     EXPECT_EQ(bad_frames, 0) << "frames with NaN/inf or uncovered pixels";
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
