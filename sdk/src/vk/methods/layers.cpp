@@ -96,7 +96,7 @@ public:
         // 35.7 dB over the 5-degree fovea. The fovea's edge may reach 80 % of the inner radius
         // (blend weight 1/2) for a gaze in a corner, where a degree spans the most pixels; a
         // gaze nearer the centre keeps nearly all of it at full weight. Full weight everywhere
-        // (60 %) would cost 39 % of the pixels instead of 24 % for no measurable gain.
+        // (60 %) would cost 39 % of the pixels instead of 25 % for no measurable gain.
         const double fovea_deg =
             ctx.option_number("layers.fovea_deg", ctx.config.acuity.foveal_radius_deg);
         if (!(fovea_deg >= 0.0)) return make_error("layers.fovea_deg must be >= 0");
