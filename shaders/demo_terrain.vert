@@ -9,8 +9,8 @@
 #include "demo_raster.glsl"
 #include "demo_scene.glsl"
 
-layout(constant_id = 0) const int kCells = 64;       // per level and side, a multiple of 4
-layout(constant_id = 1) const float kSpacing = 0.125;  // level 0 cell size, metres
+layout(constant_id = 0) const int kCells = 32;        // per level and side, a multiple of 4
+layout(constant_id = 1) const float kSpacing = 0.25;  // level 0 cell size, metres
 
 layout(location = 0) out vec3 world;
 
