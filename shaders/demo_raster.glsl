@@ -22,7 +22,7 @@ layout(push_constant) uniform Push { uint view; } pc;
 const float kNear = 0.1;
 
 // Clip-space position of world point w. Linear in the camera-space point, so the rasterizer's
-// pixel centre p + 0.5 lands where the ray-cast put its ray: full-frame uv = mix(crop, (p + 0.5 +
+// pixel centre p + 0.5 lands on its ray (demo_pixel_ray): full-frame uv = mix(crop, (p + 0.5 +
 // jitter) / size).
 vec4 demo_clip_position(DemoView v, vec3 w) {
     vec3 d = w - v.pos.xyz;

@@ -30,7 +30,7 @@ constexpr uint32_t kSlots = 64;
 
 // Terrain clipmap (shaders/demo_terrain.vert): level 0 is kTerrainCells^2 cells of
 // kTerrainSpacing metres; each further level doubles the spacing around a hole the size of the
-// previous level, until the terrain reaches kFarM (the old ray-cast's far distance). 32 cells of
+// previous level, until the terrain reaches kFarM (beyond it: sky). 32 cells of
 // 25 cm: 38k vertices, cells 1/16 to 1/8 of their distance wide; 64 cells of 12.5 cm (154k) cost
 // ~13 ms more vertex work on lavapipe for no visible gain (the normal is analytic per pixel).
 constexpr uint32_t kTerrainCells = 32;
