@@ -102,6 +102,29 @@ TEST(LandingPredictor, UncertaintyShrinksAsSaccadeProgresses) {
     }
 }
 
+// On the noisy synthetic shapes the radius holds the error from half the duration on, shrinks
+// and ends small. Not at 25 %: the eye has covered only 10-26 % of the amplitude with a slow
+// start, and both estimates take it for a small saccade ending (predicted A ~2 deg for 12 deg),
+// so the fraction, and with it the radius, is wrong too; the lund2013 labels show the same
+// (median error 4.4 deg at 25 %), where the radius holds 62 % of the errors.
+TEST(LandingPredictor, UncertaintyRadiusHoldsTheError) {
+    LandingPredictor p;
+    for (auto [a, b] : {std::pair{3.0, 3.0}, std::pair{2.0, 3.0}}) {
+        for (double amp : {6.0, 12.0, 20.0}) {
+            double last = 1e9;
+            for (double frac : {0.5, 0.75, 0.95}) {
+                const Track tr = beta_saccade(amp, a, b, frac, 5);
+                const LandingEstimate e = p.predict(tr.t, tr.x, tr.y);
+                ASSERT_TRUE(e.valid);
+                EXPECT_LE(landing_error(e, tr), e.uncertainty_deg) << amp << " at " << frac;
+                EXPECT_LT(e.uncertainty_deg, last) << amp << " at " << frac;
+                last = e.uncertainty_deg;
+            }
+            EXPECT_LT(last, 0.1 * amp) << amp;
+        }
+    }
+}
+
 TEST(LandingPredictor, DegenerateInputIsInvalid) {
     LandingPredictor p;
     std::vector<double> t{0.0}, x{1.0}, y{1.0};

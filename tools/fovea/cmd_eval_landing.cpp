@@ -1,6 +1,6 @@
 // `fovea eval-landing DIR [--json]`: landing-point error of the in-flight saccade predictor on
 // hand-labelled saccades > 2 deg, at 25/50/75 % of each saccade's labelled duration, against the
-// naive "current position" baseline, and how well the predictor's own 1-sigma uncertainty radius
+// naive "current position" baseline, and how well the predictor's own uncertainty radius
 // covers its error (median radius, share of errors inside it).
 #include <algorithm>
 #include <cmath>
@@ -136,7 +136,7 @@ int run(const Options& o) {
     row("> 2 deg  current position", all.naive);
     row("> 5 deg  predictor", big.pred);
     row("> 5 deg  current position", big.naive);
-    row("> 5 deg  uncertainty (1 sigma)", big.radius);
+    row("> 5 deg  uncertainty radius", big.radius);
     std::printf("%-30s %7.0f%% %7.0f%% %7.0f%%\n", "> 5 deg  error within it", 100 * coverage(big, 0),
                 100 * coverage(big, 1), 100 * coverage(big, 2));
     std::printf("target: > 5 deg predictor at 50%% <= 1.00 deg\n");

@@ -182,13 +182,12 @@ LandingEstimate LandingPredictor::predict(std::span<const double> t_s,
     est.fraction = std::min(1.0, t_now / dur);
     est.x_deg = x0 + ux * amp;
     est.y_deg = y0 + uy * amp;
-    // Uncertainty: the estimates' disagreement, and the main-sequence spread applied to the
-    // distance still to go; both vanish as the saccade completes.
-    const double hi = std::max({a_profile, a_decel, peaked ? a_peak : a_decel});
-    const double lo = std::min({a_profile, a_decel, peaked ? a_peak : a_decel});
-    const double disagreement = 0.5 * (hi - lo);
-    const double unseen = p_.model_spread * std::max(0.0, amp - d);
-    est.uncertainty_deg = std::hypot(disagreement, unseen, p_.position_noise_deg);
+    // Uncertainty: shrinks with the elapsed fraction as measured on the labels (landing.hpp).
+    const double f = std::max(0.05, est.fraction);
+    est.uncertainty_deg =
+        std::min(p_.uncertainty_scale * amp * std::pow(f, -p_.uncertainty_power),
+                 p_.max_amplitude_deg) +
+        p_.position_noise_deg;
     return est;
 }
 
