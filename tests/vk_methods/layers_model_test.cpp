@@ -93,6 +93,24 @@ TEST(GuenterLayers, QualityBOnTheStudyDisplayShadesAtMostAnEighthAtHalfRate) {
     EXPECT_GT(optimise_layers(d, o)->shaded_fraction(), 1.0 / 8.0);
 }
 
+TEST(GuenterLayers, HalfRateNeverUpdatesAFullResolutionLayerAtHalfRate) {
+    // Weighted by w_i = 1/2 the unconstrained n = 4 minimum was a 0.1-degree inner layer and a
+    // second s = 1 layer at half rate; every layer after the inner one must be coarser.
+    const LayerDisplay d;
+    LayerOptions o;
+    o.slope = kSlopeB;
+    o.half_rate_outer = true;
+    for (int n = 2; n <= 4; ++n) {
+        o.layer_count = n;
+        const LayerPlan p = *optimise_layers(d, o);
+        for (std::size_t i = 1; i < p.layers.size(); ++i)
+            EXPECT_GT(p.layers[i].sampling_factor, 1.0) << "n " << n << " layer " << i;
+        if (n >= 3) {
+            EXPECT_LE(p.shaded_fraction(), 1.0 / 8.0) << n;
+        }
+    }
+}
+
 TEST(GuenterLayers, Figure12AbstractClaimHundredfoldAt70Degrees) {
     // Abstract: "100 times speedup at a field of view of 70° and resolution matching foveal
     // acuity" — the n = 4 curve at slope A.

@@ -35,6 +35,10 @@ struct Search {
     std::vector<double> current;
     std::vector<double> best;
     double best_work = std::numeric_limits<double>::infinity();
+    // Every layer after the inner one coarser than the display (s > 1). With half-rate weights
+    // the unconstrained minimum can be a sliver of an inner layer followed by a second s = 1
+    // layer: the fovea itself at half rate.
+    bool coarser_outside = false;
 
     // Chooses radius number `k` (0-based) after a previous radius at grid index `from`, with
     // `work` already accumulated for layers 0..k-1 and `s` the sampling factor of layer k.
@@ -51,6 +55,7 @@ struct Search {
         }
         for (std::size_t i = from; i < grid.size(); ++i) {
             const double e = grid[i];
+            if (coarser_outside && sampling_after(e, o, omega_star) <= 1.0) continue;
             const double di = inner_diameter(d, e, s);
             const double w = work + weight_of(k, o) * di * di;
             if (w >= best_work) break;  // P_k grows with e: later radii cannot do better here
@@ -183,7 +188,12 @@ Result<LayerPlan> optimise_layers(const LayerDisplay& d, const LayerOptions& o) 
         const auto from = static_cast<std::size_t>(
             std::lower_bound(search.grid.begin(), search.grid.end(), o.min_inner_deg) -
             search.grid.begin());
+        search.coarser_outside = o.half_rate_outer;
         search.recurse(0, from, 1.0, 0.0);
+        if (search.best.empty() && search.coarser_outside) {  // a display too coarse for it
+            search.coarser_outside = false;
+            search.recurse(0, from, 1.0, 0.0);
+        }
     }
     if (search.best.empty()) return make_error("no admissible layer radii on this grid");
     return evaluate_layers(d, o, search.best);
