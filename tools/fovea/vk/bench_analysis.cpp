@@ -68,6 +68,28 @@ float half_to_float(uint16_t h) {
 
 }  // namespace
 
+std::vector<float> luminance_rgba16f(const std::vector<uint8_t>& rgba16f, uint32_t width,
+                                     uint32_t height) {
+    // demo::tonemap's curve (1 - e^-c, sRGB encode) without rounding to 8 bits.
+    const auto encode = [](float c) {
+        if (!(c > 0.f)) return 0.f;
+        const float t = 1.f - std::exp(-c);
+        const float s = t <= 0.0031308f ? 12.92f * t : 1.055f * std::pow(t, 1.f / 2.4f) - 0.055f;
+        return std::clamp(s, 0.f, 1.f);
+    };
+    std::vector<float> l(size_t(width) * height);
+    for (size_t i = 0; i < l.size(); ++i) {
+        float c[3];
+        for (int k = 0; k < 3; ++k) {
+            uint16_t h;
+            std::memcpy(&h, rgba16f.data() + 8 * i + 2 * k, 2);
+            c[k] = encode(half_to_float(h));
+        }
+        l[i] = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+    }
+    return l;
+}
+
 std::vector<float> decode_rg16f(const std::vector<uint8_t>& rg16f) {
     std::vector<float> out(rg16f.size() / 2);
     for (size_t i = 0; i < out.size(); ++i) {

@@ -30,6 +30,11 @@ double finite_mean(const std::vector<double>& v);
 // Display luminance (Rec. 709 weights on the tone-mapped 8-bit values, 0..1) of packed RGB8.
 std::vector<float> luminance(const std::vector<uint8_t>& rgb, uint32_t width, uint32_t height);
 
+// The same display luminance from RGBA16F linear pixels as read back, before 8-bit rounding:
+// ATD under TAA sits near 1/4 code value, where the rounding of each frame would dominate it.
+std::vector<float> luminance_rgba16f(const std::vector<uint8_t>& rgba16f, uint32_t width,
+                                     uint32_t height);
+
 // R16G16_SFLOAT pixels as read back (Device::read_image) -> two floats per pixel.
 std::vector<float> decode_rg16f(const std::vector<uint8_t>& rg16f);
 

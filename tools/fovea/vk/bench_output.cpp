@@ -50,6 +50,8 @@ nlohmann::json row_json(const Row& r, const std::string& primary) {
     }
     m["psnr_bands_mean_db"] = number_or_null(r.psnr_bands_mean_db);
     m["atd"] = number_or_null(r.atd);
+    m["atd_8bit"] = number_or_null(r.atd_8bit);
+    m["atd_settled"] = number_or_null(r.atd_settled);
     m["skipped_tiles"] = r.skipped_tiles;
     m["reused_tiles"] = r.reused_tiles;
     return m;

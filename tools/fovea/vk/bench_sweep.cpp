@@ -14,6 +14,9 @@ namespace {
 
 constexpr double kFrameDt = 1.0 / 60.0;  // display rate: motion vectors span one frame
 constexpr uint64_t kGazeSeed = 7;        // the demo's scripted trace
+// TAA (α = 0.1) keeps ~0.9^n of the frame after the camera cut at frame 0: atd_settled averages
+// frames from here on (NaN in shorter runs).
+constexpr int kAtdSettledFrom = 10;
 
 std::string join(const std::vector<std::string>& v, const char* sep) {
     std::string s;
@@ -147,7 +150,8 @@ Result<std::vector<Row>> run_sweep(
         const size_t n = c.methods.size() + 1;
         std::vector<float> motion;
         std::vector<std::vector<float>> previous(n);
-        std::vector<std::vector<double>> atd(n);
+        std::vector<std::vector<double>> atd(n), atd_8bit(n), atd_settled(n);
+        std::vector<std::vector<float>> previous_8bit(n);
         std::vector<double> skipped(n, 0.0), reused(n, 0.0);
         std::vector<std::string> names{"full"};
         names.insert(names.end(), c.methods.begin(), c.methods.end());
@@ -165,10 +169,15 @@ Result<std::vector<Row>> run_sweep(
                     motion[i + 1] += j[1];
                 }
             }
-            std::vector<float> luma = luminance(img.rgb, w, h);
-            if (frame > 0 && !previous[k].empty())
+            std::vector<float> luma = luminance_rgba16f(device.read_image(f.output()), w, h);
+            std::vector<float> luma_8bit = luminance(img.rgb, w, h);
+            if (frame > 0 && !previous[k].empty()) {
                 atd[k].push_back(temporal_difference(previous[k], luma, motion, w, h));
+                atd_8bit[k].push_back(temporal_difference(previous_8bit[k], luma_8bit, motion, w, h));
+                if (frame >= kAtdSettledFrom) atd_settled[k].push_back(atd[k].back());
+            }
             previous[k] = std::move(luma);
+            previous_8bit[k] = std::move(luma_8bit);
             const vk::FrameStats st = f.stats();
             skipped[k] += st.skipped_tiles;
             reused[k] += st.reused_tiles;
@@ -199,6 +208,8 @@ Result<std::vector<Row>> run_sweep(
                 row.ssim_bands = e.ssim_bands;
                 row.psnr_bands_mean_db = finite_mean({e.psnr_bands_db.begin(), e.psnr_bands_db.end()});
                 row.atd = finite_mean(atd[k]);
+                row.atd_8bit = finite_mean(atd_8bit[k]);
+                row.atd_settled = finite_mean(atd_settled[k]);
                 row.skipped_tiles = row.frames > 0 ? skipped[k] / row.frames : 0.0;
                 row.reused_tiles = row.frames > 0 ? reused[k] / row.frames : 0.0;
             }

@@ -39,6 +39,8 @@ struct Row {
     std::array<double, vk::kBandCount> psnr_bands_db{}, ssim_bands{};
     double psnr_bands_mean_db = 0;      // mean of the finite band PSNRs
     double atd = 0;                     // ATD of this row's output (with its post chain)
+    double atd_8bit = 0;                // the same on the 8-bit frames (rounding floor ~1/4 LSB)
+    double atd_settled = 0;             // ATD from frame kAtdSettledFrom on (TAA converged)
     double skipped_tiles = 0;           // mean per frame: tiles without a host shading call
     double reused_tiles = 0;            // mean per frame: of which last frame's shading kept
     std::string error;                  // method failed to initialise; other fields empty
