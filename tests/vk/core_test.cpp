@@ -323,6 +323,40 @@ TEST(Foveator, PostChainRunsAndCopies) {
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
 
+// A host alternating methods frame by frame (fovea bench, the demo) must not blend one method's
+// frame into another's TAA history: each method keeps its own post-chain instance.
+TEST(Foveator, EachMethodKeepsItsOwnPostChainHistory) {
+    FOVEA_REQUIRE_DEVICE();
+    FoveatorConfig c = config_for(64, 48, "full");
+    c.display = EyeDisplay::from_fov(64, 48, 40.0, 30.0);  // wide: a coarse periphery
+    c.acuity.foveal_radius_deg = 2.f;
+    c.acuity.transition_deg = 2.f;
+    c.acuity.mar_slope = 0.1f;
+    c.post_chain = {"taa"};
+    auto alone = Foveator::create(*device, c);
+    auto mixed = Foveator::create(*device, c);
+    ASSERT_TRUE(alone) << alone.error().message;
+    ASSERT_TRUE(mixed) << mixed.error().message;
+    upload_test_gbuffer(*device, *alone);
+    upload_test_gbuffer(*device, *mixed);
+    FrameInputs in;
+    in.gaze.x = 0.2f;
+    in.gaze.y = 0.3f;
+    bool cps_differs = false;
+    for (uint64_t i = 0; i < 3; ++i) {
+        alone->render_blocking(i, in, {});
+        ASSERT_TRUE(mixed->set_method("full"));
+        mixed->render_blocking(i, in, {});
+        const auto full = device->read_image(mixed->output());
+        EXPECT_EQ(device->read_image(alone->output()), full) << "frame " << i;
+        ASSERT_TRUE(mixed->set_method("cps"));
+        mixed->render_blocking(i, in, {});
+        cps_differs = cps_differs || device->read_image(mixed->output()) != full;
+    }
+    EXPECT_TRUE(cps_differs);  // otherwise a shared history would go unnoticed
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS();
+}
+
 TEST(Foveator, BadInputIsAnErrorNotACrash) {
     FOVEA_REQUIRE_DEVICE();
     FoveatorConfig c = config_for(64, 64, "cps");
