@@ -123,12 +123,18 @@ void main() {
         uint slot = atomicAdd(cps_args.count[list], 1u);
         cps_lists.tile[cps_list_base(list) * cps_push.capacity + slot] = tile;
         uint side = uint(ts) >> cls;
-        atomicMax(cps_args.cmd[list].x, ((slot + 1u) * side * side + 63u) / 64u);
+        atomicMax(cps_args.cmd[list].x, ((slot + 1u) * side * side + kCpsGroupSize - 1u) /
+                                             kCpsGroupSize);
         if (env) {
             atomicAdd(fovea_stats.background_tiles, 1u);
             atomicAdd(fovea_stats.tiles[3], 1u);
         } else {
             atomicAdd(fovea_stats.tiles[cls], 1u);
+            // The shade pass calls the host function once per coarse pixel of the tile inside
+            // the frame; counted here so that pass needs no workgroup counter.
+            uint px = 1u << cls;  // coarse pixel edge
+            uvec2 coarse = (uvec2(hi - lo) + uvec2(px - 1u)) / px;
+            atomicAdd(fovea_stats.shaded_samples, coarse.x * coarse.y);
         }
         if (is_flat && acuity != 2u) atomicAdd(fovea_stats.flat_tiles, 1u);
         uint count = still ? min(st.y + 1u, 255u) : 1u;

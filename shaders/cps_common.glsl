@@ -6,6 +6,10 @@
 // re-shaded at full rate); 4, 5, 6 = background-only tiles at 1x1 / 2x2 / 4x4 (the host's
 // environment function fovea_background). Reused tiles are in no list: they cost no thread.
 const uint kCpsEdgeList = 3u;
+// Threads per workgroup of the shade and edge passes (the indirect sizes divide by it): large,
+// because every workgroup is a task with its own set-up on llvmpipe.
+#define CPS_GROUP_SIZE 256
+const uint kCpsGroupSize = CPS_GROUP_SIZE;
 const uint kCpsBackgroundList = 4u;
 uint cps_list_rate_class(uint list) { return list & 3u; }
 uint cps_list_base(uint list) { return list < 3u ? list : list - 1u; }  // tile lists, edges skipped

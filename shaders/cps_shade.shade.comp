@@ -1,19 +1,19 @@
 #version 450
 // Coarse pixel shading, pass 2 (one dispatch per list, indirect): one shade per coarse pixel
-// (rate x rate pixels) from the full-resolution G-buffer sample at its centre, broadcast to the
-// pixels on the same surface. Lists 0-2 call the host shading function; pixels of another surface
-// (material id, depth or normal discontinuity: visibility stays at full rate) go to the edge
-// list for pass 3. Built a second time with FOVEA_CPS_BACKGROUND for the background-only lists
+// (rate x rate pixels) from the full-resolution G-buffer sample at its centre, written to all
+// its pixels. Lists 0-2 call the host shading function; pixels of another surface (material id,
+// depth or normal discontinuity: visibility stays at full rate) go to the edge list, and pass 3
+// overwrites them with their own shade. Built a second time with FOVEA_CPS_BACKGROUND for the background-only lists
 // 4-6: the host's environment function fovea_background(), no edges (one surface: the sky).
 // Writes the method's persistent colour image (copied to the frame output after pass 3).
+// Pass 1 already counted this pass's shades (fovea_stats.shaded_samples): no shared counter,
+// so no workgroup barrier (each costs a coroutine switch per 8 lanes on llvmpipe).
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64) in;
 #include "fovea_frame.glsl"
 #include "cps_common.glsl"
+layout(local_size_x = CPS_GROUP_SIZE) in;
 #include "fovea_host.glsl"
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D cps_color;
-
-shared uint s_shaded;
 
 bool same_surface(FoveaGSample a, FoveaGSample b) {
     if (a.background || b.background) return a.background == b.background;
@@ -23,8 +23,6 @@ bool same_surface(FoveaGSample a, FoveaGSample b) {
 }
 
 void main() {
-    if (gl_LocalInvocationIndex == 0u) s_shaded = 0u;
-    barrier();
     uint list = cps_push.list;
     uint cls = cps_list_rate_class(list);
     int r = 1 << int(cls);
@@ -53,28 +51,36 @@ void main() {
                 for (int x = o.x; x < hi.x; ++x) imageStore(cps_color, ivec2(x, y), c);
 #else
             vec4 c = vec4(fovea_shade(g, fp), 1.0);
-            atomicAdd(s_shaded, 1u);
             cps_add_luminance(tile, c.rgb);
+            // Every pixel takes the coarse shade (pass 3 overwrites the edge pixels: no branch
+            // around the store); pixels of another surface, one bit each (r x r <= 16), go to
+            // the edge list with one atomic per coarse pixel, not one per pixel (atomics are
+            // slow on a CPU).
+            uint edges = 0u;
             for (int y = o.y; y < hi.y; ++y) {
                 for (int x = o.x; x < hi.x; ++x) {
                     ivec2 p = ivec2(x, y);
-                    bool same = r == 1 || (p == a) || same_surface(g, fovea_load_gsample(p));
-                    if (!same) {
-                        uint idx = atomicAdd(cps_args.count[kCpsEdgeList], 1u);
-                        if (idx < cps_push.edge_capacity) {
-                            cps_edges.px[idx] = uint(x) | (uint(y) << 15) | (cls << 30);
-                            atomicMax(cps_args.cmd[kCpsEdgeList].x, idx / 64u + 1u);
-                            continue;
-                        }
-                        atomicAdd(cps_args.dropped, 1u);
-                    }
                     imageStore(cps_color, p, c);
+                    if (!(r == 1 || p == a || same_surface(g, fovea_load_gsample(p))))
+                        edges |= 1u << uint((y - o.y) * r + (x - o.x));
                 }
+            }
+            if (edges != 0u) {
+                uint n = uint(bitCount(edges));
+                uint base = atomicAdd(cps_args.count[kCpsEdgeList], n);
+                uint cap = cps_push.edge_capacity;
+                if (base < cap)
+                    atomicMax(cps_args.cmd[kCpsEdgeList].x,
+                              (min(base + n, cap) - 1u) / kCpsGroupSize + 1u);
+                if (base + n > cap) atomicAdd(cps_args.dropped, base + n - max(base, cap));
+                for (uint idx = base; edges != 0u && idx < cap; ++idx) {
+                    int bit = findLSB(edges);
+                    edges &= edges - 1u;
+                    ivec2 p = o + ivec2(bit % r, bit / r);
+                    cps_edges.px[idx] = uint(p.x) | (uint(p.y) << 15) | (cls << 30);
+                }  // beyond the list's capacity a pixel keeps the coarse shade
             }
 #endif
         }
     }
-    barrier();
-    if (gl_LocalInvocationIndex == 0u && s_shaded > 0u)
-        atomicAdd(fovea_stats.shaded_samples, s_shaded);
 }
