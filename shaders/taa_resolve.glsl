@@ -93,11 +93,12 @@ void main() {
         float lod = 4.0 * s_cur;
         lod = min(lod, float(pc.levels - 1));
         vec2 uv = px / full;
-        vec3 m1, m2;
-        if (lod >= 1.0) {
-            m1 = textureLod(m1_tex, uv, lod - 1.0).xyz;  // image mip k holds chain level k + 1
-            m2 = textureLod(m2_tex, uv, lod - 1.0).xyz;
-        } else {
+        // One trilinear fetch per moment image serves both cases (image mip k holds chain level
+        // k + 1): at LOD ≥ 1 it is the box, below it is level 1 for the blend. lavapipe runs
+        // both sides of a branch under a lane mask, so fetching in each side paid twice.
+        vec3 m1 = textureLod(m1_tex, uv, max(lod - 1.0, 0.0)).xyz;
+        vec3 m2 = textureLod(m2_tex, uv, max(lod - 1.0, 0.0)).xyz;
+        if (lod < 1.0) {
             vec3 a1 = vec3(0.0);
             vec3 a2 = vec3(0.0);
             for (int dy = -1; dy <= 1; ++dy) {
@@ -108,11 +109,13 @@ void main() {
                     a2 += c * c;
                 }
             }
+            vec3 level1_m1 = m1;
+            vec3 level1_m2 = m2;
             m1 = a1 * (1.0 / 9.0);
             m2 = a2 * (1.0 / 9.0);
             if (lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
-                m1 += (textureLod(m1_tex, uv, 0.0).xyz - m1) * lod;
-                m2 += (textureLod(m2_tex, uv, 0.0).xyz - m2) * lod;
+                m1 += (level1_m1 - m1) * lod;
+                m2 += (level1_m2 - m2) * lod;
             }
         }
         vec3 sigma = sqrt(max(m2 - m1 * m1, vec3(0.0)));  // never a negative variance
