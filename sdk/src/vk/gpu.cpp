@@ -1,5 +1,6 @@
 #include "gpu.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstring>
 
@@ -113,6 +114,31 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0,
                              nullptr);
     });
+}
+
+LinearClampSampler::LinearClampSampler(const Device& device, uint32_t mip_levels)
+    : device_(device.device()) {
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    sci.maxLod = float(std::max(1u, mip_levels) - 1);
+    VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
+}
+
+LinearClampSampler& LinearClampSampler::operator=(LinearClampSampler&& o) noexcept {
+    if (this != &o) {
+        reset();
+        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
+        sampler_ = std::exchange(o.sampler_, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
+void LinearClampSampler::reset() {
+    if (sampler_) vkDestroySampler(device_, sampler_, nullptr);
+    sampler_ = VK_NULL_HANDLE;
+    device_ = VK_NULL_HANDLE;
 }
 
 Image& Image::operator=(Image&& o) noexcept {

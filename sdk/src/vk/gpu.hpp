@@ -70,6 +70,26 @@ private:
     std::vector<VkImageView> mip_views_;
 };
 
+// The filtered reads of the passes: bilinear within a level, linear between the `mip_levels`
+// levels (trilinear), clamp to edge (the CPU models' fetch()). Move-only.
+class LinearClampSampler {
+public:
+    LinearClampSampler() = default;
+    LinearClampSampler(const Device& device, uint32_t mip_levels = 1);
+    LinearClampSampler(LinearClampSampler&& o) noexcept { *this = std::move(o); }
+    LinearClampSampler& operator=(LinearClampSampler&& o) noexcept;
+    LinearClampSampler(const LinearClampSampler&) = delete;
+    LinearClampSampler& operator=(const LinearClampSampler&) = delete;
+    ~LinearClampSampler() { reset(); }
+    void reset();
+
+    VkSampler get() const { return sampler_; }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkSampler sampler_ = VK_NULL_HANDLE;
+};
+
 // One descriptor binding of a compute pipeline's own set.
 struct Binding {
     VkDescriptorType type;  // STORAGE_IMAGE, STORAGE_BUFFER, UNIFORM_BUFFER, COMBINED_IMAGE_SAMPLER

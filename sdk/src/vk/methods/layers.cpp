@@ -77,10 +77,6 @@ struct LayerState {
 
 class LayersMethod final : public Method {
 public:
-    ~LayersMethod() override {
-        if (sampler_ != VK_NULL_HANDLE) vkDestroySampler(device_, sampler_, nullptr);
-    }
-
     Result<void> init(const ModuleContext& ctx) override {
         extent_ = ctx.extent;
         jitter_length_ = ctx.config.jitter_length;
@@ -158,13 +154,7 @@ public:
         // The composite upsamples the coarser layers with the sampler's bilinear filter: one
         // fetch per layer instead of four loads (the composite was a third of the method's time
         // on llvmpipe). Clamp to edge = the clamped taps of the resolve.
-        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-        sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
-        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-        sci.addressModeU = sci.addressModeV = sci.addressModeW =
-            VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        device_ = dev;
-        VK_CHECK(vkCreateSampler(dev, &sci, nullptr, &sampler_));
+        sampler_ = LinearClampSampler(ctx.device);
         for (int i = 0; i < count_; ++i) {
             LayerState& st = layers_[std::size_t(i)];
             st.shade_set = shade_.allocate_set();
@@ -189,8 +179,8 @@ public:
         for (int i = 1; i < 3; ++i)  // unused inner slots repeat the outer layer (valid image)
             w.sampled_image(uint32_t(i),
                             layers_[std::size_t(i < count_ - 1 ? i : count_ - 1)].resolved.view(),
-                            sampler_);
-        w.sampled_image(3, layers_[std::size_t(count_ - 1)].resolved.view(), sampler_);
+                            sampler_.get());
+        w.sampled_image(3, layers_[std::size_t(count_ - 1)].resolved.view(), sampler_.get());
         w.storage_buffer(4, table_).commit();
         return {};
     }
@@ -335,8 +325,7 @@ private:
     std::array<LayerState, kMaxLayers> layers_;
     ComputePipeline shade_, resolve_, composite_;
     VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
-    VkDevice device_ = VK_NULL_HANDLE;
-    VkSampler sampler_ = VK_NULL_HANDLE;
+    LinearClampSampler sampler_;
     Buffer table_;
 };
 

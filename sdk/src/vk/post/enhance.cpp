@@ -22,10 +22,6 @@ struct ContrastPush {
 
 class ContrastPass final : public PostPass {
 public:
-    ~ContrastPass() override {
-        if (sampler_) vkDestroySampler(device_, sampler_, nullptr);
-    }
-
     Result<void> init(const ModuleContext& ctx) override {
         device_ = ctx.device.device();
         const double rate = ctx.option_number("contrast.blur_rate", 0.34);
@@ -46,13 +42,7 @@ public:
         push_.levels = int32_t(levels);
         pyramid_ = Image(ctx.device, ctx.extent, VK_FORMAT_R32_SFLOAT,
                          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, levels);
-        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};  // I_avg: trilinear
-        sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
-        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-        sci.addressModeU = sci.addressModeV = sci.addressModeW =
-            VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        sci.maxLod = float(levels - 1);
-        VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
+        sampler_ = LinearClampSampler(ctx.device, levels);  // I_avg: trilinear
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
         const Binding luma_b[] = {img, img};
@@ -101,7 +91,7 @@ public:
             DescriptorWriter(device_, s)
                 .storage_image(0, f.color_in.view)
                 .storage_image(1, f.rate.view)
-                .sampled_image(2, pyramid_.view(), sampler_)
+                .sampled_image(2, pyramid_.view(), sampler_.get())
                 .storage_image(3, f.color_out.view)
                 .commit();
             cit = contrast_sets_.emplace(key, s).first;
@@ -112,7 +102,7 @@ public:
 
 private:
     VkDevice device_ = VK_NULL_HANDLE;
-    VkSampler sampler_ = VK_NULL_HANDLE;
+    LinearClampSampler sampler_;
     ContrastPush push_{};
     Image pyramid_;
     ComputePipeline luma_, reduce_, contrast_;

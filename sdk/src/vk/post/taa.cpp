@@ -30,10 +30,6 @@ struct ResolvePush {
 
 class TaaPass final : public PostPass {
 public:
-    ~TaaPass() override {
-        if (sampler_) vkDestroySampler(device_, sampler_, nullptr);
-    }
-
     Result<void> init(const ModuleContext& ctx) override {
         device_ = ctx.device.device();
         push_.alpha = float(ctx.option_number("taa.alpha", 0.1));
@@ -71,13 +67,7 @@ public:
 
         // Trilinear for the moment chain (LOD = 4·S_t, clamped to the chain like the model),
         // bilinear for the history's Catmull-Rom taps; clamp to edge as the model's fetch().
-        VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-        sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
-        sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-        sci.addressModeU = sci.addressModeV = sci.addressModeW =
-            VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        sci.maxLod = float(stored - 1);
-        VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
+        sampler_ = LinearClampSampler(ctx.device, stored);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
@@ -140,9 +130,9 @@ public:
                 .storage_image(1, f.depth.view)
                 .storage_image(2, f.motion.view)
                 .storage_image(3, f.rate.view)
-                .sampled_image(4, m1_.view(), sampler_)
-                .sampled_image(5, m2_.view(), sampler_)
-                .sampled_image(6, hist_[src].view(), sampler_)
+                .sampled_image(4, m1_.view(), sampler_.get())
+                .sampled_image(5, m2_.view(), sampler_.get())
+                .sampled_image(6, hist_[src].view(), sampler_.get())
                 .storage_image(7, hist_depth_[src].view())
                 .storage_image(8, hist_[dst].view())
                 .storage_image(9, hist_depth_[dst].view())
@@ -163,7 +153,7 @@ public:
 
 private:
     VkDevice device_ = VK_NULL_HANDLE;
-    VkSampler sampler_ = VK_NULL_HANDLE;
+    LinearClampSampler sampler_;
     ResolvePush push_{};
     bool saccade_ = true;
     bool valid_ = false;
