@@ -167,16 +167,21 @@ TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
     EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
 }
 
+// The views (layer crops) the method asks the host to render for this frame and gaze.
+std::vector<ViewRequest> requested_views(MethodHarness& m, uint64_t frame, float gx, float gy) {
+    FrameInputs in;
+    in.gaze.x = gx;
+    in.gaze.y = gy;
+    return m.foveator().views(frame, in);
+}
+
 TEST(LayersGpu, GazeAtTheCornerKeepsFullRateFoveaWithCropsOnScreen) {
     REQUIRE_DEVICE();
     MethodHarness full(*dev, kW, kH, "full");
     MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
     ASSERT_TRUE(m.ok()) << m.error();
     const float gx = 0.02f, gy = 0.97f;
-    FrameInputs in;
-    in.gaze.x = gx;
-    in.gaze.y = gy;
-    const std::vector<ViewRequest> views = m.foveator().views(0, in);
+    const std::vector<ViewRequest> views = requested_views(m, 0, gx, gy);
     ASSERT_GE(views.size(), 2u);
     // Inner layers are shifted onto the display; the outer one covers it whole (its last texel
     // may overhang by less than one layer texel: ceil(W / s) texels).
@@ -197,10 +202,7 @@ TEST(LayersGpu, GazeAtTheCornerKeepsFullRateFoveaWithCropsOnScreen) {
 // Mask radii (display pixels) of the inner layers the method asks for this frame: half the
 // side of each square crop.
 std::vector<double> inner_radii(MethodHarness& m, uint64_t frame, float gx, float gy) {
-    FrameInputs in;
-    in.gaze.x = gx;
-    in.gaze.y = gy;
-    const std::vector<ViewRequest> views = m.foveator().views(frame, in);
+    const std::vector<ViewRequest> views = requested_views(m, frame, gx, gy);
     const double width = m.foveator().config().extent.width;
     std::vector<double> r;
     for (std::size_t i = 0; i + 1 < views.size(); ++i)
@@ -394,10 +396,7 @@ TEST(LayersGpu, GazeSweepAndJumpsLeaveNoSeamBetweenLayers) {
         // the composite would smear the crop's border texels), up to the half texel by which the
         // crop snaps to its texel grid (where the mask weight is ~0): the crops follow the gaze
         // to the display's edges and corners.
-        FrameInputs in;
-        in.gaze.x = gx;
-        in.gaze.y = gy;
-        const std::vector<ViewRequest> views = m.foveator().views(uint64_t(f), in);
+        const std::vector<ViewRequest> views = requested_views(m, uint64_t(f), gx, gy);
         for (std::size_t i = 0; i < r.size(); ++i) {
             const auto& c = views[i].crop;
             const double slack = 0.5 * (c[2] - c[0]) * kW / views[i].gbuffer.extent.width + 1e-3;

@@ -156,10 +156,7 @@ bool EventDetector::pop(DetectorOutput& out) {
         case Label::kBlink:
             out.event = Event::kBlink;
             break;
-        case Label::kUndefined:  // tracking lost on and off: no event
-            out.event = Event::kUnknown;
-            break;
-        default:
+        default:  // kUndefined (tracking lost on and off) and the rest: no event
             out.event = Event::kUnknown;
             break;
     }
