@@ -9,6 +9,8 @@
 const int kDemoScene = 0;
 const int kZonePlateScene = 1;
 const int kGratingScene = 2;
+// The object grid. tools/demo/scene.cpp draws 36 * kGridX * kGridZ proxy vertices
+// (kObjectVertices): change both together.
 const int kGridX = 6;
 const int kGridZ = 4;
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the committed benchmark summary: runs the full `fovea bench` sweep (long: ~1 h on
+# Regenerates the committed benchmark summary: runs the full `fovea bench` sweep (~4 min on
 # lavapipe with 2 cores), writes docs/bench/summary.md and docs/bench/time_vs_error.png, and
 # replaces the README section between the bench-summary markers with the summary.
 #   tools/bench_summary.sh [fovea bench options, e.g. --frames 5]

@@ -44,7 +44,8 @@ constexpr uint32_t terrain_levels() {
 constexpr uint32_t kTerrainVertices =
     6 * (kTerrainCells * kTerrainCells +
          (terrain_levels() - 1) * (kTerrainCells * kTerrainCells * 3 / 4));
-constexpr uint32_t kObjectVertices = 36 * 6 * 4;  // a box per object: kGridX * kGridZ in demo_scene.glsl
+// A 36-vertex box per object of shaders/demo_scene.glsl's kGridX x kGridZ grid (6 x 4).
+constexpr uint32_t kObjectVertices = 36 * 6 * 4;
 
 void put(float* dst, const V3& v, float w) {
     dst[0] = v[0];
