@@ -65,7 +65,7 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
         const toml::table* t = p->as_table();
         if (!t) return key_error(origin, "processing", "must be a table");
         for (const auto& [key, node] : *t)
-            if (key.str() != "publish")
+            if (key.str() != "publish" && key.str() != "lookahead_ms")
                 return key_error(origin, "processing." + std::string(key.str()), "unknown key");
         if (const toml::node* m = t->get("publish")) {
             const std::optional<std::string> v = m->value<std::string>();
@@ -73,6 +73,9 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                 return key_error(origin, "processing.publish", "must be \"live\" or \"final\"");
             cfg.publish = *v == "live" ? PublishMode::kLive : PublishMode::kFinal;
         }
+        if (auto r = read_number(*t, "lookahead_ms", cfg.lookahead_ms, 5, 2000, origin, "processing.");
+            !r)
+            return r.error();
     }
     if (const toml::node* c = root.get("calibration")) {
         const toml::table* t = c->as_table();

@@ -8,6 +8,7 @@
 
 #include <toml++/toml.h>
 
+#include "fovea/gaze/event_detector.hpp"
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
 #include "zmq_publisher.hpp"
@@ -25,8 +26,8 @@ struct CalibrationConfig {
 
 // [processing] publish: what the gaze ring carries. kLive publishes every sample as soon as the
 // chain has filtered it, with causal provisional event labels (FOVEA_FLAG_PROVISIONAL); kFinal
-// waits for the event detector's look-ahead (~100 ms) so ring labels are final. Recordings and
-// observers always get the final labels.
+// waits for the event detector's look-ahead ([processing] lookahead_ms, default 350) so ring labels
+// are final. Recordings and observers always get the final labels.
 enum class PublishMode { kLive, kFinal };
 
 struct DaemonConfig {
@@ -36,6 +37,8 @@ struct DaemonConfig {
     gaze::DisplayGeometry display;
     CalibrationConfig calibration;
     PublishMode publish = PublishMode::kLive;  // [processing] publish = "live" | "final"
+    // [processing] lookahead_ms: the event detector's bound on how long a final label waits.
+    double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
     ZmqConfig zmq;                     // [zmq]: Pupil-style gaze fan-out, off by default
     std::vector<toml::table> devices;  // [[device]] tables; empty means one simulated tracker
     std::string source_path;           // the file it came from, "" for defaults

@@ -138,12 +138,8 @@ Result<void> Daemon::start() {
         if (!drv) return make_error("device " + std::to_string(i) + ": " + drv.error().message);
         d->driver = std::move(drv).value();
         d->info = d->driver->describe();
-        gaze::PipelineConfig pc;
-        pc.clock = d->info.clock;
-        pc.display = config_.display;
-        pc.nominal_rate_hz = d->info.nominal_rate_hz > 0 ? d->info.nominal_rate_hz : 1000.0;
-        pc.predict_landing = false;  // until a reader attaches (tick())
-        d->pipeline = std::make_unique<gaze::Pipeline>(pc);
+        // Landing prediction stays off until a reader attaches (tick()).
+        d->pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(d->info, false));
         devices_.push_back(std::move(d));
     }
     ro.nominal_rate_hz = static_cast<uint32_t>(devices_.front()->info.nominal_rate_hz);
@@ -214,6 +210,17 @@ void Daemon::open_device(Device& d) {
     });
 }
 
+gaze::PipelineConfig Daemon::pipeline_config(const drivers::DriverInfo& info,
+                                             bool predict_landing) const {
+    gaze::PipelineConfig pc;
+    pc.clock = info.clock;
+    pc.display = config_.display;
+    pc.nominal_rate_hz = info.nominal_rate_hz > 0 ? info.nominal_rate_hz : 1000.0;
+    pc.predict_landing = predict_landing;
+    pc.detector.lookahead_s = config_.lookahead_ms * 1e-3;
+    return pc;
+}
+
 void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
     if (d.raw_samples == 0) {
         // Serial and Gazepoint trackers only state their clock and rate in the handshake that
@@ -221,12 +228,7 @@ void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
         const drivers::DriverInfo now = d.driver->describe();
         if (now.clock.counter_bits != d.info.clock.counter_bits ||
             now.clock.tick_hz != d.info.clock.tick_hz || now.nominal_rate_hz != d.info.nominal_rate_hz) {
-            gaze::PipelineConfig pc;
-            pc.clock = now.clock;
-            pc.display = config_.display;
-            pc.nominal_rate_hz = now.nominal_rate_hz > 0 ? now.nominal_rate_hz : 1000.0;
-            pc.predict_landing = readers_attached_;
-            d.pipeline = std::make_unique<gaze::Pipeline>(pc);
+            d.pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(now, readers_attached_));
             if (d.calibration) d.pipeline->set_calibration(*d.calibration);
         }
         d.info = now;

@@ -73,6 +73,8 @@ private:
     void emit_final(Device& d, gaze::GazeSample& s);
     void publish_head(Device& d, const drivers::HeadPose& pose);
     double lookahead_ms(const Device& d) const;
+    // The gaze chain's configuration for a device as it describes itself.
+    gaze::PipelineConfig pipeline_config(const drivers::DriverInfo& info, bool predict_landing) const;
     void register_commands();
     void on_signal(int signo);
     void reload();

@@ -54,6 +54,9 @@ struct CalibrationCommands : ::testing::Test {
             "test");
         ASSERT_TRUE(cfg.ok()) << cfg.error().message;
         cfg->instance = instance;
+        // Observers see final samples after the detector's look-ahead; keep it short so the
+        // 150 ms runs below publish samples processed after the calibration changed.
+        cfg->lookahead_ms = 50;
         daemon = std::make_unique<Daemon>(std::move(cfg).value(), "");
         auto r = daemon->start();
         ASSERT_TRUE(r.ok()) << r.error().message;

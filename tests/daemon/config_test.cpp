@@ -74,6 +74,17 @@ TEST(DaemonConfig, PublishModeDefaultsToLiveAndIsValidated) {
     EXPECT_EQ(unknown.error().message, "x.toml: processing.lookahead: unknown key");
 }
 
+TEST(DaemonConfig, LookaheadDefaultsToTheDetectorsAndIsBounded) {
+    EXPECT_DOUBLE_EQ(parse_config("", "x.toml")->lookahead_ms, 350.0);
+    EXPECT_DOUBLE_EQ(parse_config("[processing]\nlookahead_ms = 100\n", "x.toml")->lookahead_ms,
+                     100.0);
+    auto bad = parse_config("[processing]\nlookahead_ms = 0\n", "x.toml");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().message.rfind("x.toml: processing.lookahead_ms: must be a number in", 0),
+              0u)
+        << bad.error().message;
+}
+
 TEST(DaemonConfig, MissingFileIsOneClearLine) {
     auto c = load_config("/nonexistent/fovead.toml");
     ASSERT_FALSE(c.ok());

@@ -137,10 +137,11 @@ struct PublishModeLatency {
     uint32_t ring_flags = 0;
 };
 
-PublishModeLatency measure_publish_mode(DaemonTest& t, const std::string& mode) {
+PublishModeLatency measure_publish_mode(DaemonTest& t, const std::string& mode,
+                                        const std::string& extra_processing = "") {
     PublishModeLatency m;
     const std::string cfg = t.dir + "/publish-" + mode + ".toml";
-    std::ofstream(cfg) << "[processing]\npublish = \"" << mode << "\"\n";
+    std::ofstream(cfg) << "[processing]\npublish = \"" << mode << "\"\n" << extra_processing;
     auto d = t.start_daemon({"--config", cfg});
     std::this_thread::sleep_for(800ms);
     {
@@ -166,13 +167,17 @@ PublishModeLatency measure_publish_mode(DaemonTest& t, const std::string& mode) 
 TEST_F(DaemonTest, LivePublicationSkipsTheLookaheadFinalWaitsForIt) {
     const PublishModeLatency live = measure_publish_mode(*this, "live");
     EXPECT_EQ(live.mode, "live");
-    EXPECT_GT(live.lookahead_ms, 10.0);
     EXPECT_GE(live.receive_to_processed_p50_us, 0.0);
     EXPECT_LT(live.receive_to_processed_p50_us, 5000.0 * kSlowdown);
     EXPECT_TRUE(live.ring_flags & FOVEA_FLAG_PROVISIONAL);
 
-    const PublishModeLatency final_ = measure_publish_mode(*this, "final");
+    EXPECT_NEAR(live.lookahead_ms, 350.0, 2.0);  // the detector's default bound
+
+    // A shorter bound from the configuration keeps the final wait measurable in this test.
+    const PublishModeLatency final_ =
+        measure_publish_mode(*this, "final", "lookahead_ms = 120\n");
     EXPECT_EQ(final_.mode, "final");
+    EXPECT_NEAR(final_.lookahead_ms, 120.0, 2.0);
     EXPECT_FALSE(final_.ring_flags & FOVEA_FLAG_PROVISIONAL);
     // Held for the look-ahead: within 20% of it (plus scheduling slack on a loaded machine).
     EXPECT_GT(final_.receive_to_processed_p50_us, 800.0 * final_.lookahead_ms);
