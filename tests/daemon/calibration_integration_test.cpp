@@ -9,6 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -96,10 +97,12 @@ struct CalibrateEndToEnd : ::testing::Test {
         return d;
     }
 
-    // Show a target and measure the published left/right gaze against it: mean offset in
+    // Show a target and measure the published left/right gaze against it: median offset in
     // degrees per eye and the share of records flagged calibrated. Samples more than 5 deg off
     // are excluded (the convention of fovea calibrate's validation): the simulated eye may be
-    // mid-blink when the target appears and arrive late, or drag the gaze with its lid.
+    // mid-blink when the target appears and arrive late, or drag the gaze with its lid. The
+    // offset is the median per eye, so a lid edge dragging the gaze a few degrees for 100 ms
+    // (a blink the sim may start at any time) cannot swing the figure.
     struct Measured {
         double left_deg = NAN, right_deg = NAN, calibrated_share = 0;
         int records = 0, kept = 0, excluded = 0;
@@ -113,7 +116,8 @@ struct CalibrateEndToEnd : ::testing::Test {
         EXPECT_TRUE(shown.ok() && (*shown)["ok"].get<bool>());
         const double tx = (*shown)["deg_x"], ty = (*shown)["deg_y"];
         Measured m;
-        double sum[2] = {0, 0}, n[2] = {0, 0}, flagged = 0;
+        std::vector<double> offsets[2];
+        double flagged = 0;
         bool past = false;
         while (!past && now_ns() < until_ns + 3'000'000'000LL * kSlowdown) {
             if (!ring.wait(cursor, 100)) continue;
@@ -130,14 +134,18 @@ struct CalibrateEndToEnd : ::testing::Test {
                         ++m.excluded;
                         continue;
                     }
-                    sum[e] += offset;
-                    n[e] += 1;
+                    offsets[e].push_back(offset);
                     ++m.kept;
                 }
             }
         }
-        m.left_deg = n[0] ? sum[0] / n[0] : NAN;
-        m.right_deg = n[1] ? sum[1] / n[1] : NAN;
+        const auto median = [](std::vector<double>& v) {
+            if (v.empty()) return double(NAN);
+            std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+            return v[v.size() / 2];
+        };
+        m.left_deg = median(offsets[0]);
+        m.right_deg = median(offsets[1]);
         m.calibrated_share = m.records ? flagged / m.records : 0;
         return m;
     }
