@@ -125,6 +125,79 @@ TEST(LandingPredictor, UncertaintyRadiusHoldsTheError) {
     }
 }
 
+// The late correction is off before late_from, fully on from late_full, linear between.
+TEST(LandingPredictor, LateCorrectionRampsInWithTheElapsedFraction) {
+    const LandingParams params;
+    const LandingPredictor p(params);
+    EXPECT_EQ(p.late_weight(0.5 * params.late_from), 0.0);
+    EXPECT_EQ(p.late_weight(params.late_full), 1.0);
+    EXPECT_EQ(p.late_weight(1.0), 1.0);
+    EXPECT_NEAR(p.late_weight(0.5 * (params.late_from + params.late_full)), 0.5, 1e-12);
+
+    // Early observation: the estimate is the base amplitude; late: base x exp(correction).
+    LandingObservation obs;
+    obs.valid = true;
+    obs.ux = 1.0;
+    obs.elapsed_s = 0.02;
+    obs.displacement_deg = 4.0;
+    obs.speed_dps = 200.0;
+    obs.peak_speed_dps = 400.0;
+    obs.base_amplitude_deg = 10.0;
+    obs.base_fraction = 0.3;
+    EXPECT_NEAR(p.estimate(obs).amplitude_deg, 10.0, 1e-12);
+    obs.base_fraction = 0.9;
+    const double expected = 10.0 * std::exp(params.late_bias + params.late_displacement * 0.4 +
+                                            params.late_speed * 0.5);
+    EXPECT_NEAR(p.estimate(obs).amplitude_deg, expected, 1e-9);
+    EXPECT_NEAR(p.estimate(obs).x_deg, expected, 1e-9);
+    // A push beyond the base amplitude is capped (here the formula would give e^0.27).
+    obs.displacement_deg = 10.0;
+    obs.speed_dps = 400.0;
+    EXPECT_NEAR(p.estimate(obs).amplitude_deg, 10.0 * std::exp(params.late_max_log_push), 1e-9);
+    // Never behind the eye's covered distance.
+    obs.displacement_deg = 9.9;
+    obs.base_amplitude_deg = 40.0;
+    EXPECT_GE(p.estimate(obs).amplitude_deg, 9.9);
+}
+
+// The least-absolute-error fit recovers the constants that generated the landings, even with
+// a quarter of the rows replaced by gross outliers (which least squares would follow), and
+// ignores rows too early for the correction.
+TEST(LandingPredictor, LateCorrectionFitRecoversConstantsDespiteOutliers) {
+    const LandingPredictor p;
+    const double bias = -0.8, disp = 0.9, speed = 0.3;
+    std::vector<LateCorrectionRow> rows;
+    uint32_t seed = 7;
+    auto uniform = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return static_cast<double>(seed >> 8) / 16777216.0;
+    };
+    for (int k = 0; k < 400; ++k) {
+        LateCorrectionRow r;
+        r.obs.valid = true;
+        r.obs.base_amplitude_deg = 5.0 + 10.0 * uniform();
+        r.obs.displacement_deg = r.obs.base_amplitude_deg * (0.5 + 0.5 * uniform());
+        r.obs.peak_speed_dps = 400.0;
+        r.obs.speed_dps = 400.0 * uniform();
+        r.obs.base_fraction = 0.7 + 0.3 * uniform();
+        const double log_ratio = bias + disp * r.obs.displacement_deg / r.obs.base_amplitude_deg +
+                                 speed * r.obs.speed_dps / r.obs.peak_speed_dps;
+        r.landed_along_deg = r.obs.base_amplitude_deg * std::exp(log_ratio);
+        if (k % 4 == 0) r.landed_along_deg *= 3.0;  // outlier
+        rows.push_back(r);
+        if (k % 2 == 0) {  // too early: must not enter the fit
+            r.obs.base_fraction = 0.2;
+            r.landed_along_deg *= 5.0;
+            rows.push_back(r);
+        }
+    }
+    const LateCorrection c = p.fit_late_correction(rows);
+    EXPECT_EQ(c.rows, 400u);
+    EXPECT_NEAR(c.bias, bias, 0.02);
+    EXPECT_NEAR(c.displacement, disp, 0.02);
+    EXPECT_NEAR(c.speed, speed, 0.02);
+}
+
 TEST(LandingPredictor, DegenerateInputIsInvalid) {
     LandingPredictor p;
     std::vector<double> t{0.0}, x{1.0}, y{1.0};
