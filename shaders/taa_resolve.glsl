@@ -7,9 +7,9 @@
 // sdk/src/vk/post/taa_model.cpp.
 //
 // One workgroup per 8×8 tile of a list made by taa_tiles.comp, dispatched indirectly. lavapipe
-// runs every line for every lane (branches only mask lanes), so the level-0 window is compiled
-// only into the foveal pipeline (kFovealTiles): peripheral tiles, where no pixel reads level 0,
-// never pay for its 9 loads.
+// runs every line for every lane (branches only mask lanes), so each list's pipeline
+// (kTileClass) holds only the moment reads its tiles need: the level-0 window (9 loads) only
+// where some pixel has LOD < 1, the chain fetch only where some pixel has LOD > 0.
 //
 // Approximation (the issue allows it, the model does the same): the 16-tap Catmull-Rom history
 // filter is Jimenez's 5-tap "Catmull-Rom lite" (Filmic SMAA, SIGGRAPH 2016): the four corner
@@ -29,7 +29,11 @@ layout(set = 0, binding = 8, TAA_FORMAT) uniform writeonly image2D hist_out;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D color_out;
 layout(std430, set = 0, binding = 10) readonly buffer TaaTileLists { uint tile[]; } tiles;
 
-layout(constant_id = 0) const bool kFovealTiles = true;  // the list has pixels with LOD < 1
+// Tile classes, as the lists of taa_tiles.comp.
+const int kFoveal = 0;      // some pixel with LOD < 1 (not all 0)
+const int kPeripheral = 1;  // every LOD ≥ 1
+const int kFullRate = 2;    // every LOD 0
+layout(constant_id = 0) const int kTileClass = kFoveal;
 
 layout(push_constant) uniform Push {
     vec2 jitter;  // this frame's sub-pixel jitter, pixels (first: vec2 needs 8-byte alignment)
@@ -77,9 +81,8 @@ vec4 history_catmull_rom(vec2 q, ivec2 size) {
 }
 
 void main() {
-    uint tile = tiles.tile[pc.list_base + gl_WorkGroupID.x];
-    ivec2 p = ivec2(int(tile % pc.tiles_x), int(tile / pc.tiles_x)) * 8 +
-              ivec2(gl_LocalInvocationID.xy);
+    uint tile = tiles.tile[pc.list_base + gl_WorkGroupID.x];  // x | y << 16, see taa_tiles.comp
+    ivec2 p = ivec2(int(tile & 0xffffu), int(tile >> 16)) * 8 + ivec2(gl_LocalInvocationID.xy);
     ivec2 size = imageSize(color_in);
     if (any(greaterThanEqual(p, size))) return;
     vec2 full = vec2(size);
@@ -118,9 +121,13 @@ void main() {
         // One trilinear fetch per moment image serves both cases (image mip k holds chain level
         // k + 1): at LOD ≥ 1 it is the box, below it is level 1 for the blend. lavapipe runs
         // both sides of a branch under a lane mask, so fetching in each side paid twice.
-        vec3 m1 = textureLod(m1_tex, uv, max(lod - 1.0, 0.0)).xyz;
-        vec3 m2 = textureLod(m2_tex, uv, max(lod - 1.0, 0.0)).xyz;
-        if (kFovealTiles && lod < 1.0) {
+        vec3 m1 = vec3(0.0);
+        vec3 m2 = vec3(0.0);
+        if (kTileClass != kFullRate) {
+            m1 = textureLod(m1_tex, uv, max(lod - 1.0, 0.0)).xyz;
+            m2 = textureLod(m2_tex, uv, max(lod - 1.0, 0.0)).xyz;
+        }
+        if (kTileClass != kPeripheral && lod < 1.0) {
             vec3 a1 = vec3(0.0);
             vec3 a2 = vec3(0.0);
             for (int dy = -1; dy <= 1; ++dy) {
@@ -135,7 +142,7 @@ void main() {
             vec3 level1_m2 = m2;
             m1 = a1 * (1.0 / 9.0);
             m2 = a2 * (1.0 / 9.0);
-            if (lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
+            if (kTileClass == kFoveal && lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
                 m1 += (level1_m1 - m1) * lod;
                 m2 += (level1_m2 - m2) * lod;
             }

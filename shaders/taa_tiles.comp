@@ -1,16 +1,20 @@
 #version 450
-// TAA pass 3: sorts the resolve's 8×8 tiles into two lists, one thread per tile. A tile goes to
-// the foveal list when any of its pixels reads level 0 of the moment chain (LOD = 4·S_t < 1: the
-// pixel's own 3×3 window), else to the peripheral list; each list's indirect dispatch grows by
-// one workgroup per tile. lavapipe runs every line of a shader for every lane (a branch only masks
-// lanes), so the 3×3 window costs every pixel it is compiled into: only the foveal resolve
-// pipeline has it. Same LOD rule as taa_resolve.glsl (NaN/inf S_t counts as 1).
+// TAA pass 3: sorts the resolve's 8×8 tiles into lists by which moment levels their pixels
+// read, one thread per tile; each list's indirect dispatch grows by one workgroup per tile.
+// lavapipe runs every line of a shader for every lane (a branch only masks lanes), so each list
+// has a resolve pipeline with only the reads its tiles need (taa_resolve.glsl, kTileClass):
+//   0  some pixel has LOD = 4·S_t < 1, not all 0: the pixel's own 3×3 window (level 0) and the
+//      trilinear fetch from the chain
+//   1  every LOD ≥ 1: the chain fetch only (most of a foveated frame)
+//   2  every LOD 0 (full rate): the 3×3 window only
+// Same LOD rule as taa_resolve.glsl (NaN/inf S_t counts as 1, LOD clamped to the chain).
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0, r16f) uniform readonly image2D rate_in;
 layout(std430, set = 0, binding = 1) buffer TaaTileArgs {
-    uvec4 cmd[2];  // VkDispatchIndirectCommand x, y, z (+ pad): 0 foveal, 1 peripheral
+    uvec4 cmd[3];  // VkDispatchIndirectCommand x, y, z (+ pad) per list
 } args;
-layout(std430, set = 0, binding = 2) buffer TaaTileLists { uint tile[]; } lists;  // [2][capacity]
+// [3][capacity]: tile x | y << 16
+layout(std430, set = 0, binding = 2) buffer TaaTileLists { uint tile[]; } lists;
 
 layout(push_constant) uniform Push {
     uint tiles_x;
@@ -27,18 +31,19 @@ void main() {
     ivec2 lo = ivec2(int(tile % pc.tiles_x), int(tile / pc.tiles_x)) * kTile;
     ivec2 hi = min(lo + ivec2(kTile), imageSize(rate_in));
     float max_lod = float(pc.levels - 1);
-    bool foveal = false;
-    for (int y = lo.y; y < hi.y && !foveal; ++y) {
+    float lod_min = max_lod;
+    float lod_max = 0.0;
+    for (int y = lo.y; y < hi.y; ++y) {
         for (int x = lo.x; x < hi.x; ++x) {
             float s = imageLoad(rate_in, ivec2(x, y)).x;
             s = (isnan(s) || isinf(s)) ? 1.0 : clamp(s, 0.0, 1.0);
-            if (min(4.0 * s, max_lod) < 1.0) {
-                foveal = true;
-                break;
-            }
+            float lod = min(4.0 * s, max_lod);
+            lod_min = min(lod_min, lod);
+            lod_max = max(lod_max, lod);
         }
     }
-    uint list = foveal ? 0u : 1u;
+    uint list = lod_max == 0.0 ? 2u : (lod_min < 1.0 ? 0u : 1u);
     uint slot = atomicAdd(args.cmd[list].x, 1u);
-    lists.tile[list * capacity + slot] = tile;
+    // Tile coordinates, not the index: lavapipe divides integers lane by lane (scalar).
+    lists.tile[list * capacity + slot] = (tile % pc.tiles_x) | ((tile / pc.tiles_x) << 16);
 }

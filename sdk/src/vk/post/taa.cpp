@@ -1,7 +1,7 @@
 // Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as four
 // compute stages (moments straight at mip level 1, the rest of the moment mip chain, 8×8 tiles
-// sorted by whether they read level 0, resolve: one indirect dispatch per tile list, the foveal
-// one computing level 0 itself). The CPU reference is taa_model.cpp; the
+// sorted by which moment levels they read, resolve: one indirect dispatch per tile list with a
+// pipeline holding only those reads; where it reads level 0 it computes it itself). The CPU reference is taa_model.cpp; the
 // shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
 // taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
 // taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
@@ -18,7 +18,9 @@ namespace {
 
 constexpr uint32_t kMomentLevels = 5;  // LOD = 4·S_t reads levels 0..4
 constexpr uint32_t kTile = 8;          // resolve workgroup = tile of taa_tiles.comp
-constexpr uint32_t kFovealList = 0, kPeripheralList = 1;
+// taa_tiles.comp's lists, one resolve pipeline each (kTileClass): 0 some LOD < 1 (not all 0),
+// 1 every LOD >= 1, 2 every LOD 0.
+constexpr uint32_t kTileLists = 3;
 
 struct ResolvePush {
     float jitter[2];  // first, as in the shader (std430 aligns a vec2 to 8 bytes)
@@ -40,7 +42,7 @@ struct TilesPush {
 
 // taa_tiles.comp's indirect arguments: VkDispatchIndirectCommand + pad per list.
 struct TileArgs {
-    uint32_t cmd[2][4];
+    uint32_t cmd[kTileLists][4];
 };
 
 class TaaPass final : public PostPass {
@@ -90,8 +92,8 @@ public:
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                             false);
-        tile_lists_ = Buffer(ctx.device, capacity * 2 * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                             false);
+        tile_lists_ = Buffer(ctx.device, capacity * kTileLists * 4,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
@@ -103,12 +105,11 @@ public:
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
         tiles_ = ctx.builtin_pipeline("taa_tiles.comp", tiles_b, sizeof(TilesPush), false);
-        const uint32_t foveal[] = {1u};
-        const uint32_t peripheral[] = {0u};
-        resolve_[kFovealList] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
-                                                     sizeof(ResolvePush), false, foveal);
-        resolve_[kPeripheralList] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
-                                                         sizeof(ResolvePush), false, peripheral);
+        for (uint32_t list = 0; list < kTileLists; ++list) {
+            const uint32_t tile_class[] = {list};
+            resolve_[list] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
+                                                  sizeof(ResolvePush), false, tile_class);
+        }
         // Mip 0 (level 1) comes from the moments pass; the rest are 2×2 reductions.
         for (uint32_t l = 0; l + 1 < stored; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();
@@ -190,8 +191,8 @@ public:
                                          f.motion.view, f.rate.view, src);
         auto rit = resolve_sets_.find(key);
         if (rit == resolve_sets_.end()) {
-            std::array<VkDescriptorSet, 2> sets{};
-            for (uint32_t list : {kFovealList, kPeripheralList}) {
+            std::array<VkDescriptorSet, kTileLists> sets{};
+            for (uint32_t list = 0; list < kTileLists; ++list) {
                 sets[list] = resolve_[list].allocate_set();
                 DescriptorWriter(device_, sets[list])
                     .storage_image(0, f.color_in.view)
@@ -215,7 +216,7 @@ public:
         push.jitter[0] = f.jitter_px[0];
         push.jitter[1] = f.jitter_px[1];
         push.tiles_x = tiles_x_;
-        for (uint32_t list : {kFovealList, kPeripheralList}) {
+        for (uint32_t list = 0; list < kTileLists; ++list) {
             push.list_base = list * tiles_x_ * tiles_y_;
             resolve_[list].bind(f.cmd, VK_NULL_HANDLE, rit->second[list], &push, sizeof(push));
             vkCmdDispatchIndirect(f.cmd, tile_args_.get(), list * 16);
@@ -236,11 +237,11 @@ private:
     uint32_t tiles_x_ = 0, tiles_y_ = 0;
     Buffer tile_args_, tile_lists_;  // taa_tiles.comp's indirect arguments and tile lists
     ComputePipeline moments_, reduce_, tiles_;
-    std::array<ComputePipeline, 2> resolve_;  // per tile list: foveal, peripheral
+    std::array<ComputePipeline, kTileLists> resolve_;  // per tile class
     std::vector<VkDescriptorSet> reduce_sets_;
     std::map<VkImageView, VkDescriptorSet> moment_sets_, tile_sets_;
     std::map<std::tuple<VkImageView, VkImageView, VkImageView, VkImageView, VkImageView, int>,
-             std::array<VkDescriptorSet, 2>>
+             std::array<VkDescriptorSet, kTileLists>>
         resolve_sets_;
 };
 
