@@ -142,7 +142,8 @@ void main() {
             vec3 level1_m2 = m2;
             m1 = a1 * (1.0 / 9.0);
             m2 = a2 * (1.0 / 9.0);
-            if (kTileClass == kFoveal && lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
+            // Blend toward level 1 like the model's trilinear.
+            if (kTileClass == kFoveal && lod > 0.0 && pc.levels > 1) {
                 m1 += (level1_m1 - m1) * lod;
                 m2 += (level1_m2 - m2) * lod;
             }

@@ -1,10 +1,11 @@
 // Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as four
 // compute stages (moments straight at mip level 1, the rest of the moment mip chain, 8×8 tiles
 // sorted by which moment levels they read, resolve: one indirect dispatch per tile list with a
-// pipeline holding only those reads; where it reads level 0 it computes it itself). The CPU reference is taa_model.cpp; the
-// shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
-// taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
-// taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
+// pipeline holding only those reads; where it reads level 0 it computes it itself). The CPU
+// reference is taa_model.cpp; the shaders are shaders/taa_*.glsl. Options
+// (FoveatorConfig::options): taa.alpha (0.1), taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1),
+// taa.depth_tolerance (0.05), taa.saccade (1 = on), taa.precision (half | float: moment and
+// history storage).
 // Called on the host's render thread (PostPass contract).
 #include <algorithm>
 #include <array>
