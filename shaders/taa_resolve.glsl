@@ -1,14 +1,21 @@
-// TAA pass 3: variance-sampled resolve (Patney §4.2–4.3). Clamp box μ ± γσ from the moment chain
+// TAA pass 4: variance-sampled resolve (Patney §4.2–4.3). Clamp box μ ± γσ from the moment chain
 // at LOD = 4·S_t (levels ≥ 1 through the sampler's trilinear filter: one fetch per moment image;
-// level 0, a pixel's own 3×3 window, computed here where LOD < 1, i.e. only in the fovea), grown to contain the current sample; history fetched with Catmull-Rom and clipped
-// toward the box centre in YCoCg; saccade-aware α from the accumulated S in the history's alpha;
-// disocclusion from depth and from motion leaving the screen. Mirrors taa_resolve() in
+// level 0, a pixel's own 3×3 window, computed here where LOD < 1, i.e. only in the fovea), grown
+// to contain the current sample; history fetched with Catmull-Rom and clipped toward the box
+// centre in YCoCg; saccade-aware α from the accumulated S in the history's alpha; disocclusion
+// from depth and from motion leaving the screen. Mirrors taa_resolve() in
 // sdk/src/vk/post/taa_model.cpp.
 //
+// One workgroup per 8×8 tile of a list made by taa_tiles.comp, dispatched indirectly. lavapipe
+// runs every line for every lane (branches only mask lanes), so each list's pipeline
+// (kTileClass) holds only the moment reads its tiles need: the level-0 window (9 loads) only
+// where some pixel has LOD < 1, the chain fetch only where some pixel has LOD > 0.
+//
 // Approximation (the issue allows it, the model does the same): the 16-tap Catmull-Rom history
-// filter is Jimenez's 5-tap "Catmull-Rom lite" (Filmic SMAA, SIGGRAPH 2016): the 4×4 weights are
-// folded into bilinear fetches and the four corner taps (weights ≤ 1/64 of the total) dropped,
-// renormalized. The history is the dominant cost on a CPU device: 5 filtered fetches, not 16 loads.
+// filter is Jimenez's 5-tap "Catmull-Rom lite" (Filmic SMAA, SIGGRAPH 2016): the four corner
+// taps (weights ≤ 1/64 of the total) dropped, renormalized. Jimenez folds the other 12 into 5
+// bilinear fetches; here they are 12 storage-image loads with the same weights, which lavapipe
+// runs in about half the time of 5 sampler fetches.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0, rgba16f) uniform readonly image2D color_in;
 layout(set = 0, binding = 1, r32f) uniform readonly image2D depth_in;
@@ -16,11 +23,17 @@ layout(set = 0, binding = 2, rg16f) uniform readonly image2D motion_in;
 layout(set = 0, binding = 3, r16f) uniform readonly image2D rate_in;
 layout(set = 0, binding = 4) uniform sampler2D m1_tex;  // chain levels 1.., trilinear, clamp
 layout(set = 0, binding = 5) uniform sampler2D m2_tex;
-layout(set = 0, binding = 6) uniform sampler2D hist_in;  // bilinear, clamp to edge
-layout(set = 0, binding = 7, r32f) uniform readonly image2D hist_depth_in;
+layout(set = 0, binding = 6, TAA_FORMAT) uniform readonly image2D hist_in;
+layout(set = 0, binding = 7, r32f) uniform readonly image2D hist_depth_in;  // last frame's, raw
 layout(set = 0, binding = 8, TAA_FORMAT) uniform writeonly image2D hist_out;
-layout(set = 0, binding = 9, r32f) uniform writeonly image2D hist_depth_out;
-layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D color_out;
+layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D color_out;
+layout(std430, set = 0, binding = 10) readonly buffer TaaTileLists { uint tile[]; } tiles;
+
+// Tile classes, as the lists of taa_tiles.comp.
+const int kFoveal = 0;      // some pixel with LOD < 1 (not all 0)
+const int kPeripheral = 1;  // every LOD ≥ 1
+const int kFullRate = 2;    // every LOD 0
+layout(constant_id = 0) const int kTileClass = kFoveal;
 
 layout(push_constant) uniform Push {
     vec2 jitter;  // this frame's sub-pixel jitter, pixels (first: vec2 needs 8-byte alignment)
@@ -31,34 +44,45 @@ layout(push_constant) uniform Push {
     float depth_tolerance;
     int levels;
     uint flags;  // bit 0: history valid, bit 1: saccade term on
+    uint tiles_x;     // 8×8 tiles per row
+    uint list_base;   // first entry of this dispatch's list in `tiles`
 } pc;
 
 #include "taa_common.glsl"
 
-// 5-tap Catmull-Rom at continuous pixel position q (texel centres at integer + 0.5).
-vec4 history_catmull_rom(vec2 q, vec2 inv_size) {
+// Catmull-Rom "lite" at continuous pixel position q (texel centres at integer + 0.5): the 4×4
+// taps around q without the corners, clamped to the edge like the model's bilinear fetches.
+vec4 history_catmull_rom(vec2 q, ivec2 size) {
     vec2 f = q - 0.5;
     vec2 b = floor(f);
     vec2 t = f - b;
     vec4 wx = taa_catmull_rom(t.x);
     vec4 wy = taa_catmull_rom(t.y);
-    // Taps 0 and 1 (relative to b) and 2 merge into one bilinear fetch between texels b and b+1.
-    vec2 w12 = vec2(wx.y + wx.z, wy.y + wy.z);
-    vec2 c12 = (b + 0.5 + vec2(wx.z, wy.z) / w12) * inv_size;
-    vec2 c0 = (b - 0.5) * inv_size;
-    vec2 c3 = (b + 2.5) * inv_size;
-    float k_top = w12.x * wy.x, k_left = wx.x * w12.y, k_mid = w12.x * w12.y;
-    float k_right = wx.w * w12.y, k_bottom = w12.x * wy.w;
-    vec4 acc = k_top * textureLod(hist_in, vec2(c12.x, c0.y), 0.0) +
-               k_left * textureLod(hist_in, vec2(c0.x, c12.y), 0.0) +
-               k_mid * textureLod(hist_in, c12, 0.0) +
-               k_right * textureLod(hist_in, vec2(c3.x, c12.y), 0.0) +
-               k_bottom * textureLod(hist_in, vec2(c12.x, c3.y), 0.0);
-    return acc / (k_top + k_left + k_mid + k_right + k_bottom);
+    ivec2 hi = size - 1;
+    ivec2 x = clamp(ivec2(b.x) + ivec2(-1, 2), 0, hi.x);  // outer columns
+    ivec2 y = clamp(ivec2(b.y) + ivec2(-1, 2), 0, hi.y);  // outer rows
+    ivec2 c = clamp(ivec2(b), ivec2(0), hi);                // inner 2×2 origin
+    ivec2 c1 = clamp(ivec2(b) + 1, ivec2(0), hi);
+    vec4 top = wx.y * imageLoad(hist_in, ivec2(c.x, y.x)) +
+               wx.z * imageLoad(hist_in, ivec2(c1.x, y.x));
+    vec4 bottom = wx.y * imageLoad(hist_in, ivec2(c.x, y.y)) +
+                  wx.z * imageLoad(hist_in, ivec2(c1.x, y.y));
+    vec4 row0 = wx.x * imageLoad(hist_in, ivec2(x.x, c.y)) +
+                wx.y * imageLoad(hist_in, ivec2(c.x, c.y)) +
+                wx.z * imageLoad(hist_in, ivec2(c1.x, c.y)) +
+                wx.w * imageLoad(hist_in, ivec2(x.y, c.y));
+    vec4 row1 = wx.x * imageLoad(hist_in, ivec2(x.x, c1.y)) +
+                wx.y * imageLoad(hist_in, ivec2(c.x, c1.y)) +
+                wx.z * imageLoad(hist_in, ivec2(c1.x, c1.y)) +
+                wx.w * imageLoad(hist_in, ivec2(x.y, c1.y));
+    vec4 acc = wy.x * top + wy.y * row0 + wy.z * row1 + wy.w * bottom;
+    float total = (wx.y + wx.z) * (wy.x + wy.w) + (wx.x + wx.y + wx.z + wx.w) * (wy.y + wy.z);
+    return acc / total;
 }
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    uint tile = tiles.tile[pc.list_base + gl_WorkGroupID.x];  // x | y << 16, see taa_tiles.comp
+    ivec2 p = ivec2(int(tile & 0xffffu), int(tile >> 16)) * 8 + ivec2(gl_LocalInvocationID.xy);
     ivec2 size = imageSize(color_in);
     if (any(greaterThanEqual(p, size))) return;
     vec2 full = vec2(size);
@@ -82,11 +106,12 @@ void main() {
     bool have_history = (pc.flags & 1u) != 0u;
     bool occluded = !on_screen;
     if (have_history && on_screen) {
-        float d_prev = imageLoad(hist_depth_in, ivec2(q)).x;
+        float d_prev = imageLoad(hist_depth_in, ivec2(q)).x;  // a copy: sanitized as d_cur
+        d_prev = (isnan(d_prev) || isinf(d_prev)) ? 0.0 : d_prev;
         occluded = abs(d_prev - d_cur) > pc.depth_tolerance * max(abs(d_cur), 1e-6);
     }
     if (have_history && !occluded) {
-        vec4 acc = history_catmull_rom(q, 1.0 / full);
+        vec4 acc = history_catmull_rom(q, size);
         vec3 hist_t = max(acc.rgb, vec3(0.0));
         float s_prev = clamp(acc.a, 0.0, 1.0);
 
@@ -96,9 +121,13 @@ void main() {
         // One trilinear fetch per moment image serves both cases (image mip k holds chain level
         // k + 1): at LOD ≥ 1 it is the box, below it is level 1 for the blend. lavapipe runs
         // both sides of a branch under a lane mask, so fetching in each side paid twice.
-        vec3 m1 = textureLod(m1_tex, uv, max(lod - 1.0, 0.0)).xyz;
-        vec3 m2 = textureLod(m2_tex, uv, max(lod - 1.0, 0.0)).xyz;
-        if (lod < 1.0) {
+        vec3 m1 = vec3(0.0);
+        vec3 m2 = vec3(0.0);
+        if (kTileClass != kFullRate) {
+            m1 = textureLod(m1_tex, uv, max(lod - 1.0, 0.0)).xyz;
+            m2 = textureLod(m2_tex, uv, max(lod - 1.0, 0.0)).xyz;
+        }
+        if (kTileClass != kPeripheral && lod < 1.0) {
             vec3 a1 = vec3(0.0);
             vec3 a2 = vec3(0.0);
             for (int dy = -1; dy <= 1; ++dy) {
@@ -113,7 +142,8 @@ void main() {
             vec3 level1_m2 = m2;
             m1 = a1 * (1.0 / 9.0);
             m2 = a2 * (1.0 / 9.0);
-            if (lod > 0.0 && pc.levels > 1) {  // blend toward level 1 like the model's trilinear
+            // Blend toward level 1 like the model's trilinear.
+            if (kTileClass == kFoveal && lod > 0.0 && pc.levels > 1) {
                 m1 += (level1_m1 - m1) * lod;
                 m2 += (level1_m2 - m2) * lod;
             }
@@ -129,7 +159,6 @@ void main() {
     }
     vec3 t = clamp(taa_ycocg_to_rgb(blended_q), vec3(0.0), vec3(kTaaMaxTonemapped));
     imageStore(hist_out, p, vec4(t, blended_s));
-    imageStore(hist_depth_out, p, vec4(d_cur));
     // Read back what the history stores (half or float) so output and history agree.
     imageStore(color_out, p, vec4(taa_tonemap_inverse(t), 1.0));
 }

@@ -89,7 +89,9 @@ namespace fovea::vk::post {
 namespace {
 
 // Cost of the post chain at 1080p (a measurement, not a pass/fail timing: run with
-// FOVEA_POST_COST=1). Prints ms per frame for TAA, contrast and both; medians of 3 batches.
+// FOVEA_POST_COST=1). Prints ms per frame for TAA, contrast and both; medians of 3 batches. S_t
+// grows smoothly with the distance from the centre; the TAA and contrast passes are also timed
+// with S_t quantized per 16×16 tile to 0, 1/2, 1 as cps writes it.
 TEST_F(GpuContrast, PostChainCostAt1080p) {
     if (!std::getenv("FOVEA_POST_COST")) GTEST_SKIP() << "set FOVEA_POST_COST=1 to measure";
     const int w = 1920, h = 1080;
@@ -105,9 +107,16 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
         clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
         return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
     };
+    Image tile_rate(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float r = std::hypot(x / 16 * 16 + 8 - w / 2.0f, y / 16 * 16 + 8 - h / 2.0f);
+            tile_rate.at(x, y) = r < 200.0f ? 0.0f : (r < 450.0f ? 0.5f : 1.0f);
+        }
     double cpu_per_frame = 0;
-    auto measure = [&](PostPass& pass, PassRunner& run) {
-        run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), rate);
+    auto measure = [&](PostPass& pass, PassRunner& run, const Image& s_t = Image()) {
+        run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f),
+                       s_t.data.empty() ? rate : s_t);
         run.run(pass, 1);  // warm-up
         std::vector<double> ms, cpu;
         for (int i = 0; i < 3; ++i) {
@@ -133,6 +142,16 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
     ASSERT_TRUE(r2.init(*con).ok());
     const double con_ms = measure(*con, r2);
     const double con_cpu = cpu_per_frame;
+    PassRunner r4(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto taa_tiles = make_taa_pass();
+    ASSERT_TRUE(r4.init(*taa_tiles).ok());
+    const double taa_tiles_ms = measure(*taa_tiles, r4, tile_rate);
+    const double taa_tiles_cpu = cpu_per_frame;
+    PassRunner r5(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto con_tiles = make_contrast_pass();
+    ASSERT_TRUE(r5.init(*con_tiles).ok());
+    const double con_tiles_ms = measure(*con_tiles, r5, tile_rate);
+    const double con_tiles_cpu = cpu_per_frame;
     PassRunner r3(*device_, {uint32_t(w), uint32_t(h)}, {});
     r3.set_display(EyeDisplay::desktop_1080p());
     auto noise = make_noise_pass();
@@ -143,6 +162,9 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
                 taa_ms, con_ms, taa_ms + con_ms, noise_ms);
     std::printf("process CPU per frame: taa %.1f ms, contrast %.1f ms, noise %.1f ms\n", taa_cpu,
                 con_cpu, cpu_per_frame);
+    std::printf("S_t per 16x16 tile (0, 1/2, 1): taa %.1f ms, contrast %.1f ms/frame; process "
+                "CPU: taa %.1f ms, contrast %.1f ms\n", taa_tiles_ms, con_tiles_ms, taa_tiles_cpu,
+                con_tiles_cpu);
 }
 
 }  // namespace

@@ -70,9 +70,12 @@ void compare_with_model(const Device& dev, bool half) {
     Image depth(w, h, 1, 0.5f);
     for (int y = 0; y < h; ++y)
         for (int x = 30; x < w; ++x) depth.at(x, y) = 0.9f;
+    // S_t = 0 over the first 8 columns, then growing: the resolve's three 8×8 tile classes (LOD
+    // 0 everywhere, some LOD < 1, every LOD ≥ 1) all meet the model.
     Image rate(w, h, 1);
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) rate.at(x, y) = round_to_half(float(x) / float(w - 1));
+        for (int x = 0; x < w; ++x)
+            rate.at(x, y) = round_to_half(float(std::max(x - 8, 0)) / float(w - 9));
     TaaParams params;
     params.half_storage = half;
     TaaHistory hist;

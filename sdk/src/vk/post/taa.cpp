@@ -1,9 +1,11 @@
-// Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as three
-// compute stages (moments straight at mip level 1, the rest of the moment mip chain, resolve,
-// which computes level 0 itself where it reads it). The CPU reference is taa_model.cpp; the
-// shaders are shaders/taa_*.glsl. Options (FoveatorConfig::options): taa.alpha (0.1),
-// taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1), taa.depth_tolerance (0.05),
-// taa.saccade (1 = on), taa.precision (half | float: moment and history storage).
+// Post pass "taa": Patney 2016's variance-sampled, saccade-aware temporal anti-aliasing as four
+// compute stages (moments straight at mip level 1, the rest of the moment mip chain, 8×8 tiles
+// sorted by which moment levels they read, resolve: one indirect dispatch per tile list with a
+// pipeline holding only those reads; where it reads level 0 it computes it itself). The CPU
+// reference is taa_model.cpp; the shaders are shaders/taa_*.glsl. Options
+// (FoveatorConfig::options): taa.alpha (0.1), taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1),
+// taa.depth_tolerance (0.05), taa.saccade (1 = on), taa.precision (half | float: moment and
+// history storage).
 // Called on the host's render thread (PostPass contract).
 #include <algorithm>
 #include <array>
@@ -16,6 +18,10 @@ namespace fovea::vk {
 namespace {
 
 constexpr uint32_t kMomentLevels = 5;  // LOD = 4·S_t reads levels 0..4
+constexpr uint32_t kTile = 8;          // resolve workgroup = tile of taa_tiles.comp
+// taa_tiles.comp's lists, one resolve pipeline each (kTileClass): 0 some LOD < 1 (not all 0),
+// 1 every LOD >= 1, 2 every LOD 0.
+constexpr uint32_t kTileLists = 3;
 
 struct ResolvePush {
     float jitter[2];  // first, as in the shader (std430 aligns a vec2 to 8 bytes)
@@ -26,6 +32,18 @@ struct ResolvePush {
     float depth_tolerance;
     int32_t levels;
     uint32_t flags;
+    uint32_t tiles_x;
+    uint32_t list_base;
+};
+
+struct TilesPush {
+    uint32_t tiles_x, tiles_y;
+    int32_t levels;
+};
+
+// taa_tiles.comp's indirect arguments: VkDispatchIndirectCommand + pad per list.
+struct TileArgs {
+    uint32_t cmd[kTileLists][4];
 };
 
 class TaaPass final : public PostPass {
@@ -66,17 +84,33 @@ public:
             d = Image(ctx.device, e, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
 
         // Trilinear for the moment chain (LOD = 4·S_t, clamped to the chain like the model),
-        // bilinear for the history's Catmull-Rom taps; clamp to edge as the model's fetch().
+        // clamp to edge as the model's fetch().
         sampler_ = LinearClampSampler(ctx.device, stored);
+        tiles_x_ = div_up(e.width, kTile);
+        tiles_y_ = div_up(e.height, kTile);
+        const uint64_t capacity = uint64_t{tiles_x_} * tiles_y_;
+        tile_args_ = Buffer(ctx.device, sizeof(TileArgs),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                            false);
+        tile_lists_ = Buffer(ctx.device, capacity * kTileLists * 4,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
         const Binding mom_b[] = {img, img, img};
         const Binding red_b[] = {img, img, img, img};
-        const Binding res_b[] = {img, img, img, img, tex, tex, tex, img, img, img, img};
+        const Binding buf{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        const Binding tiles_b[] = {img, buf, buf};
+        const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, buf};
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
-        resolve_ = ctx.builtin_pipeline("taa_resolve" + suffix, res_b, sizeof(ResolvePush), false);
+        tiles_ = ctx.builtin_pipeline("taa_tiles.comp", tiles_b, sizeof(TilesPush), false);
+        for (uint32_t list = 0; list < kTileLists; ++list) {
+            const uint32_t tile_class[] = {list};
+            resolve_[list] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
+                                                  sizeof(ResolvePush), false, tile_class);
+        }
         // Mip 0 (level 1) comes from the moments pass; the rest are 2×2 reductions.
         for (uint32_t l = 0; l + 1 < stored; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();
@@ -93,8 +127,28 @@ public:
 
     void record(const PostFrame& f) override {
         const VkExtent2D e = f.color_in.extent;
-        const uint32_t gx = div_up(e.width, 8);
-        const uint32_t gy = div_up(e.height, 8);
+        TileArgs args{};
+        for (auto& c : args.cmd) {
+            c[1] = 1;
+            c[2] = 1;
+        }
+        // Last frame's resolve read these arguments (indirect stage) and the depth history
+        // overwritten below before they are reset.
+        VkMemoryBarrier war{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        vkCmdPipelineBarrier(f.cmd,
+                             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &war, 0, nullptr, 0, nullptr);
+        vkCmdUpdateBuffer(f.cmd, tile_args_.get(), 0, sizeof(args), &args);
+        // Next frame's depth history is this frame's depth: a copy, not a store per pixel in
+        // the resolve (a store costs lavapipe about as much as 4 loads); the resolve sanitizes
+        // what it reads back.
+        VkImageCopy depth_copy{};
+        depth_copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        depth_copy.dstSubresource = depth_copy.srcSubresource;
+        depth_copy.extent = {e.width, e.height, 1};
+        vkCmdCopyImage(f.cmd, f.depth.image, VK_IMAGE_LAYOUT_GENERAL,
+                       hist_depth_[1 - parity_].get(), VK_IMAGE_LAYOUT_GENERAL, 1, &depth_copy);
 
         auto mit = moment_sets_.find(f.color_in.view);
         if (mit == moment_sets_.end()) {
@@ -117,6 +171,20 @@ public:
                           div_up(std::max(1u, e.height >> dst), 8), 1);
             compute_barrier(f.cmd);
         }
+        auto tit = tile_sets_.find(f.rate.view);
+        if (tit == tile_sets_.end()) {
+            VkDescriptorSet s = tiles_.allocate_set();
+            DescriptorWriter(device_, s)
+                .storage_image(0, f.rate.view)
+                .storage_buffer(1, tile_args_)
+                .storage_buffer(2, tile_lists_)
+                .commit();
+            tit = tile_sets_.emplace(f.rate.view, s).first;
+        }
+        const TilesPush tiles_push{tiles_x_, tiles_y_, push_.levels};
+        tiles_.bind(f.cmd, VK_NULL_HANDLE, tit->second, &tiles_push, sizeof(tiles_push));
+        vkCmdDispatch(f.cmd, div_up(tiles_x_ * tiles_y_, 64), 1, 1);
+        indirect_barrier(f.cmd);
 
         const int src = parity_;
         const int dst = 1 - parity_;
@@ -124,29 +192,36 @@ public:
                                          f.motion.view, f.rate.view, src);
         auto rit = resolve_sets_.find(key);
         if (rit == resolve_sets_.end()) {
-            VkDescriptorSet s = resolve_.allocate_set();
-            DescriptorWriter(device_, s)
-                .storage_image(0, f.color_in.view)
-                .storage_image(1, f.depth.view)
-                .storage_image(2, f.motion.view)
-                .storage_image(3, f.rate.view)
-                .sampled_image(4, m1_.view(), sampler_.get())
-                .sampled_image(5, m2_.view(), sampler_.get())
-                .sampled_image(6, hist_[src].view(), sampler_.get())
-                .storage_image(7, hist_depth_[src].view())
-                .storage_image(8, hist_[dst].view())
-                .storage_image(9, hist_depth_[dst].view())
-                .storage_image(10, f.color_out.view)
-                .commit();
-            rit = resolve_sets_.emplace(key, s).first;
+            std::array<VkDescriptorSet, kTileLists> sets{};
+            for (uint32_t list = 0; list < kTileLists; ++list) {
+                sets[list] = resolve_[list].allocate_set();
+                DescriptorWriter(device_, sets[list])
+                    .storage_image(0, f.color_in.view)
+                    .storage_image(1, f.depth.view)
+                    .storage_image(2, f.motion.view)
+                    .storage_image(3, f.rate.view)
+                    .sampled_image(4, m1_.view(), sampler_.get())
+                    .sampled_image(5, m2_.view(), sampler_.get())
+                    .storage_image(6, hist_[src].view())
+                    .storage_image(7, hist_depth_[src].view())
+                    .storage_image(8, hist_[dst].view())
+                    .storage_image(9, f.color_out.view)
+                    .storage_buffer(10, tile_lists_)
+                    .commit();
+            }
+            rit = resolve_sets_.emplace(key, sets).first;
         }
         ResolvePush push = push_;
         const bool have_history = valid_ && !f.inputs.camera_cut;
         push.flags = (have_history ? 1u : 0u) | (saccade_ ? 2u : 0u);
         push.jitter[0] = f.jitter_px[0];
         push.jitter[1] = f.jitter_px[1];
-        resolve_.bind(f.cmd, VK_NULL_HANDLE, rit->second, &push, sizeof(push));
-        vkCmdDispatch(f.cmd, gx, gy, 1);
+        push.tiles_x = tiles_x_;
+        for (uint32_t list = 0; list < kTileLists; ++list) {
+            push.list_base = list * tiles_x_ * tiles_y_;
+            resolve_[list].bind(f.cmd, VK_NULL_HANDLE, rit->second[list], &push, sizeof(push));
+            vkCmdDispatchIndirect(f.cmd, tile_args_.get(), list * 16);
+        }
         parity_ = dst;
         valid_ = true;
     }
@@ -160,11 +235,14 @@ private:
     int parity_ = 0;
     Image m1_, m2_;
     std::array<Image, 2> hist_, hist_depth_;
-    ComputePipeline moments_, reduce_, resolve_;
+    uint32_t tiles_x_ = 0, tiles_y_ = 0;
+    Buffer tile_args_, tile_lists_;  // taa_tiles.comp's indirect arguments and tile lists
+    ComputePipeline moments_, reduce_, tiles_;
+    std::array<ComputePipeline, kTileLists> resolve_;  // per tile class
     std::vector<VkDescriptorSet> reduce_sets_;
-    std::map<VkImageView, VkDescriptorSet> moment_sets_;
+    std::map<VkImageView, VkDescriptorSet> moment_sets_, tile_sets_;
     std::map<std::tuple<VkImageView, VkImageView, VkImageView, VkImageView, VkImageView, int>,
-             VkDescriptorSet>
+             std::array<VkDescriptorSet, kTileLists>>
         resolve_sets_;
 };
 
