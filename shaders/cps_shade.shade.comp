@@ -3,8 +3,9 @@
 // (rate x rate pixels) from the full-resolution G-buffer sample at its centre, written to all
 // its pixels. Lists 0-2 call the host shading function; pixels of another surface (material id,
 // depth or normal discontinuity: visibility stays at full rate) go to the edge list, and pass 3
-// overwrites them with their own shade. Built a second time with FOVEA_CPS_BACKGROUND for the background-only lists
-// 4-6: the host's environment function fovea_background(), no edges (one surface: the sky).
+// overwrites them with their own shade. Built once per list 0-2 with CPS_RATE_CLASS = the list's
+// rate class, and once with FOVEA_CPS_BACKGROUND for the background-only lists 4-6: the host's
+// environment function fovea_background(), no edges (one surface: the sky).
 // Writes the method's persistent colour image (copied to the frame output after pass 3).
 // Pass 1 already counted this pass's shades (fovea_stats.shaded_samples): no shared counter,
 // so no workgroup barrier (each costs a coroutine switch per 8 lanes on llvmpipe).
@@ -24,7 +25,14 @@ bool same_surface(FoveaGSample a, FoveaGSample b) {
 
 void main() {
     uint list = cps_push.list;
+#ifdef CPS_RATE_CLASS
+    // One pipeline per host-function list: the rate is a constant, so the 1x1 list carries no
+    // surface test or edge code and the r x r loops unroll (llvmpipe runs both sides of a
+    // branch, so a run-time r == 1 saved nothing).
+    const uint cls = CPS_RATE_CLASS;
+#else
     uint cls = cps_list_rate_class(list);
+#endif
     int r = 1 << int(cls);
     uint ts = uint(fovea_frame.acuity.tile_size);
     uint side = ts >> cls;

@@ -16,7 +16,7 @@ vec3 object_albedo(int i) {
 }
 
 void main() {
-    DemoView v = demo_views.views[pc.view];
+    DemoView v = demo_view;
     vec3 ro = v.pos.xyz;
     vec3 rd = demo_pixel_ray(v, gl_FragCoord.xy);
     int shape = int(centre_shape.w + 0.5), i = int(half_index.w + 0.5);

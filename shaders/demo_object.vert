@@ -18,7 +18,7 @@ const ivec3 kBox[36] = ivec3[](
     ivec3(-1, -1, -1), ivec3(-1, 1, -1), ivec3(1, 1, -1), ivec3(-1, -1, -1), ivec3(1, 1, -1), ivec3(1, -1, -1));
 
 void main() {
-    DemoView v = demo_views.views[pc.view];
+    DemoView v = demo_view;
     int i = gl_VertexIndex / 36;
     vec3 c, hs;
     int shape;

@@ -16,8 +16,9 @@ struct DemoView {
     vec4 jitter;  // xy pixels of this view, zw view size
     vec4 prev_pos, prev_right, prev_up, prev_fwd;
 };
-layout(std430, set = 0, binding = 0) readonly buffer DemoViews { DemoView views[]; } demo_views;
-layout(push_constant) uniform Push { uint view; } pc;
+// This draw's view: a uniform block bound at the view's dynamic offset, so every load is at a
+// constant offset (llvmpipe loads those once per call; a storage buffer it loads lane by lane).
+layout(std140, set = 0, binding = 0) uniform DemoViewBlock { DemoView demo_view; };
 
 const float kNear = 0.1;
 

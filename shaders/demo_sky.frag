@@ -4,4 +4,4 @@
 #define DEMO_RASTER_FRAGMENT
 #include "demo_raster.glsl"
 
-void main() { demo_write_background(demo_pixel_ray(demo_views.views[pc.view], gl_FragCoord.xy)); }
+void main() { demo_write_background(demo_pixel_ray(demo_view, gl_FragCoord.xy)); }

@@ -7,7 +7,7 @@
 #include "demo_scene.glsl"
 
 void main() {
-    DemoView v = demo_views.views[pc.view];
+    DemoView v = demo_view;
     vec3 rd = demo_pixel_ray(v, gl_FragCoord.xy);
     float d = dot(rd, v.fwd.xyz);
     if (d <= 1e-6) {

@@ -9,7 +9,7 @@
 layout(location = 0) in vec3 world;
 
 void main() {
-    DemoView v = demo_views.views[pc.view];
+    DemoView v = demo_view;
     demo_write_surface(v, world, distance(world, v.pos.xyz), demo_terrain_normal(world.xz),
                        vec3(0.35, 0.42, 0.22), vec4(1.0, 0.8, 0.0, 0.0));
 }

@@ -38,7 +38,7 @@ ivec2 terrain_cell(int cell, out int level) {
 }
 
 void main() {
-    DemoView v = demo_views.views[pc.view];
+    DemoView v = demo_view;
     int level;
     ivec2 g = terrain_cell(gl_VertexIndex / 6, level) + kCorner[gl_VertexIndex % 6];
     float spacing = kSpacing * float(1 << level);

@@ -156,22 +156,20 @@ void GBufferRenderPass::begin(VkCommandBuffer cmd, const vk::GBufferRefs& g, VkI
     vkCmdSetScissor(cmd, 0, 1, &scissor);
 }
 
-BufferSetLayout::BufferSetLayout(const vk::Device& device, uint32_t push_bytes)
+BufferSetLayout::BufferSetLayout(const vk::Device& device, VkBuffer buffer, VkDeviceSize range)
     : device_(device.device()) {
     constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorSetLayoutBinding b{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr};
+    constexpr VkDescriptorType kType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    const VkDescriptorSetLayoutBinding b{0, kType, 1, kStages, nullptr};
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = 1;
     dl.pBindings = &b;
     VK_CHECK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &set_layout_));
-    const VkPushConstantRange pcr{kStages, 0, push_bytes};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &set_layout_;
-    pl.pushConstantRangeCount = push_bytes ? 1 : 0;
-    pl.pPushConstantRanges = &pcr;
     VK_CHECK(vkCreatePipelineLayout(device_, &pl, nullptr, &layout_));
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
+    const VkDescriptorPoolSize size{kType, 1};
     VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpi.maxSets = 1;
     dpi.poolSizeCount = 1;
@@ -182,6 +180,13 @@ BufferSetLayout::BufferSetLayout(const vk::Device& device, uint32_t push_bytes)
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &set_layout_;
     VK_CHECK(vkAllocateDescriptorSets(device_, &ai, &set_));
+    const VkDescriptorBufferInfo info{buffer, 0, range};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set_;
+    w.descriptorCount = 1;
+    w.descriptorType = kType;
+    w.pBufferInfo = &info;
+    vkUpdateDescriptorSets(device_, 1, &w, 0, nullptr);
 }
 
 BufferSetLayout::~BufferSetLayout() {

@@ -28,6 +28,14 @@ struct DemoView {
 };
 constexpr uint32_t kSlots = 64;
 
+// Bytes between the views' uniform blocks: sizeof(DemoView) rounded up to the dynamic offset's
+// alignment.
+uint32_t view_stride(const vk::Device& device) {
+    const auto align =
+        static_cast<uint32_t>(device.properties().limits.minUniformBufferOffsetAlignment);
+    return (static_cast<uint32_t>(sizeof(DemoView)) + align - 1) / align * align;
+}
+
 // Terrain clipmap (shaders/demo_terrain.vert): level 0 is kTerrainCells^2 cells of
 // kTerrainSpacing metres; each further level doubles the spacing around a hole the size of the
 // previous level, until the terrain reaches kFarM (beyond it: sky). 32 cells of
@@ -86,8 +94,9 @@ std::string shading_glsl() {
 
 SceneRenderer::SceneRenderer(const vk::Device& device)
     : device_(&device),
-      views_(device, sizeof(DemoView) * kSlots, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true),
-      layout_(device, sizeof(uint32_t)),
+      view_stride_(view_stride(device)),
+      views_(device, view_stride_ * kSlots, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true),
+      layout_(device, views_.get(), sizeof(DemoView)),
       pass_(device) {
     const auto pipeline = [&](const char* vert, const char* frag, RasterState state,
                               std::span<const uint32_t> spec = {}) {
@@ -102,7 +111,6 @@ SceneRenderer::SceneRenderer(const vk::Device& device)
     objects_ = pipeline("demo_object.vert", "demo_object.frag", {VK_CULL_MODE_FRONT_BIT, true, true});
     sky_ = pipeline("demo_fullscreen.vert", "demo_sky.frag", {VK_CULL_MODE_NONE, true, false});
     target_ = pipeline("demo_fullscreen.vert", "demo_target.frag", {VK_CULL_MODE_NONE, false, false});
-    vk::DescriptorWriter(device.device(), layout_.set()).storage_buffer(0, views_).commit();
     if (device.properties().limits.timestampComputeAndGraphics) {
         VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -151,7 +159,8 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
     put(v.prev_right, prev.right, prev.tan_x);
     put(v.prev_up, prev.up, prev.tan_y);
     put(v.prev_fwd, prev.fwd, 0.f);
-    std::memcpy(static_cast<DemoView*>(views_.data()) + slot, &v, sizeof(v));
+    const uint32_t offset = slot * view_stride_;
+    std::memcpy(static_cast<char*>(views_.data()) + offset, &v, sizeof(v));
     auto depth = depth_.find({g.extent.width, g.extent.height});
     if (depth == depth_.end())
         depth = depth_.emplace(std::pair{g.extent.width, g.extent.height},
@@ -162,11 +171,8 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
     }
     pass_.begin(cmd, g, depth->second.view());
     const VkDescriptorSet set = layout_.set();
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0,
-                            nullptr);
-    vkCmdPushConstants(cmd, layout_.layout(),
-                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(slot),
-                       &slot);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 1,
+                            &offset);
     const auto draw = [&](const GraphicsPipeline& p, uint32_t vertices) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.get());
         vkCmdDraw(cmd, vertices, 1, 0, 0);

@@ -99,9 +99,13 @@ public:
         const Binding shade_bindings[] = {sb, sb, sb, si, sb};
         classify_ = ctx.builtin_pipeline("cps_classify.comp", classify_bindings, sizeof(CpsPush),
                                          true);
-        auto shade = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings, sizeof(CpsPush));
-        if (!shade) return shade.error();
-        shade_ = std::move(*shade);
+        for (uint32_t list = 0; list < 3; ++list) {  // rate class = list
+            auto shade = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings,
+                                              sizeof(CpsPush),
+                                              {"CPS_RATE_CLASS=" + std::to_string(list) + "u"});
+            if (!shade) return shade.error();
+            shade_[list] = std::move(*shade);
+        }
         auto edge = ctx.shading_pipeline("cps_edge.shade.comp", shade_bindings, sizeof(CpsPush));
         if (!edge) return edge.error();
         edge_ = std::move(*edge);
@@ -138,7 +142,7 @@ public:
             }
             return sets;
         };
-        shade_sets_ = shade_sets(shade_);
+        for (uint32_t list = 0; list < 3; ++list) shade_sets_[list] = shade_sets(shade_[list]);
         edge_sets_ = shade_sets(edge_);
         if (background_.get()) background_sets_ = shade_sets(background_);
         extent_ = ctx.extent;
@@ -171,7 +175,7 @@ public:
         indirect_barrier(f.cmd);
         for (uint32_t list = 0; list < 3; ++list) {
             push.list = list;
-            shade_.bind(f.cmd, f.frame_set, shade_sets_[phase], &push, sizeof(push));
+            shade_[list].bind(f.cmd, f.frame_set, shade_sets_[list][phase], &push, sizeof(push));
             vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
         }
         if (background_.get()) {
@@ -212,9 +216,11 @@ private:
     uint32_t phases_ = 1;
     std::vector<Image> colors_;  // persistent shading per jitter phase: reused tiles keep theirs
     Image rate_;                 // persistent S_t
-    ComputePipeline classify_, shade_, edge_, background_;
+    ComputePipeline classify_, edge_, background_;
+    std::array<ComputePipeline, 3> shade_;  // per host-function list (rate class)
     VkDescriptorSet classify_set_ = VK_NULL_HANDLE;
-    std::vector<VkDescriptorSet> shade_sets_, edge_sets_, background_sets_;  // per phase
+    std::array<std::vector<VkDescriptorSet>, 3> shade_sets_;  // per list, per phase
+    std::vector<VkDescriptorSet> edge_sets_, background_sets_;  // per phase
 };
 
 }  // namespace

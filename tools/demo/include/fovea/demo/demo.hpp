@@ -53,6 +53,7 @@ public:
 private:
     const vk::Device* device_;
     VkQueryPool queries_ = VK_NULL_HANDLE;  // a begin/end timestamp pair per view slot
+    uint32_t view_stride_;  // bytes per view slot of views_
     vk::Buffer views_;
     BufferSetLayout layout_;
     GBufferRenderPass pass_;

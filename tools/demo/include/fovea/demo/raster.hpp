@@ -61,11 +61,14 @@ private:
     std::vector<VkFramebuffer> framebuffers_;
 };
 
-// One descriptor set with one storage buffer visible to the vertex and fragment stages, and a
-// push-constant range for both: the layout every demo G-buffer pipeline shares.
+// One descriptor set with one uniform buffer visible to the vertex and fragment stages, bound
+// with a dynamic offset (a draw's view is one `range`-byte block of the buffer): the layout every
+// demo G-buffer pipeline shares. A uniform block at a constant offset, not a storage buffer
+// indexed by a push constant: llvmpipe (Mesa 22.3) loads the former once per shader call, the
+// latter lane by lane, which cost about a third of the G-buffer pass.
 class BufferSetLayout {
 public:
-    BufferSetLayout(const vk::Device& device, uint32_t push_bytes);
+    BufferSetLayout(const vk::Device& device, VkBuffer buffer, VkDeviceSize range);
     BufferSetLayout(const BufferSetLayout&) = delete;
     BufferSetLayout& operator=(const BufferSetLayout&) = delete;
     ~BufferSetLayout();
