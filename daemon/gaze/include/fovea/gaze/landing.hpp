@@ -39,8 +39,9 @@ struct LandingParams {
     // Estimates 2 and 3: remaining distance = factor x speed x remaining time. 1/2 is a linear
     // slow-down (minimum jerk: 0.53 at mid-flight); early-peaked profiles with long tails, as
     // the labels and the simulated tracker have, give ~0.4. With estimate 3 in the mean and
-    // before the late correction, lund2013 > 5 deg median error at 50 / 75 %: 0.40 -> 1.62 / 1.07 deg, 0.45 -> 1.59 /
-    // 1.20, 0.50 -> 1.6-1.7 / 1.3-1.4 (the 50 % point barely moves; the 75 % one does).
+    // before the late correction, lund2013 > 5 deg median error at 50 / 75 %: 0.40 -> 1.62 /
+    // 1.07 deg, 0.45 -> 1.59 / 1.20, 0.50 -> 1.6-1.7 / 1.3-1.4 (the 50 % point barely moves;
+    // the 75 % one does).
     double deceleration_factor = 0.40;
     int speed_fit_samples = 4;  // current speed and position: line through the newest samples
     // Estimate 3. r = Vp * D / A: 15/8 for a minimum-jerk profile; the lund2013 labels' median
