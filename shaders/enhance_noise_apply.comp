@@ -6,7 +6,7 @@
 // amplitude (the fovea, flat regions) are skipped; a pixel with no noise is copied unchanged.
 // The impulses of the tile's cells are staged in shared memory once per workgroup.
 // Mirrors synthesize_gabor_noise() in sdk/src/vk/post/enhance_model.cpp.
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = 0, rgba16f) uniform readonly image2D color_in;
 layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D color_out;
 layout(std430, set = 0, binding = 2) readonly buffer Impulses { vec4 impulse[]; };
@@ -17,9 +17,9 @@ layout(std430, set = 0, binding = 4) readonly buffer Cells { float cell_peak[]; 
 #include "enhance_noise_common.glsl"
 #include "enhance_noise_push.glsl"
 
-// Why shared memory: lavapipe loads storage buffers lane by lane, and the 64 pixels of a tile
-// read the same few cells 64 times over. With the cell edge r >= 7 px (checked on the host), the
-// pixels of an 8x8 tile have at most 2x2 home cells, so their 3x3 neighbourhoods lie in one 4x4
+// Why shared memory: lavapipe loads storage buffers lane by lane, and the 256 pixels of a tile
+// read the same few cells 256 times over. With the cell edge r >= 15 px (checked on the host), the
+// pixels of a 16x16 tile have at most 2x2 home cells, so their 3x3 neighbourhoods lie in one 4x4
 // block of cells: it is loaded once per workgroup behind a single barrier. Same values, same
 // summation order as reading the buffers directly, so the output is bit-identical.
 const int kBlockCells = 4;
@@ -31,10 +31,10 @@ shared float s_peak[kBlockCells * kBlockCells];
 void main() {
     // Grid index (origin at cell (-1, -1)) of the home cell of the tile's first pixel; every
     // pixel of the tile has home + 1 - block_origin in [0, 1] per axis.
-    ivec2 tile_first = ivec2(gl_WorkGroupID.xy) * 8;
+    ivec2 tile_first = ivec2(gl_WorkGroupID.xy) * 16;
     ivec2 block_origin = ivec2(floor((vec2(tile_first) + 0.5) / pc.radius));
     int lane = int(gl_LocalInvocationIndex);
-    for (int i = lane; i < kBlockCells * kBlockCells * pc.per_cell; i += 64) {
+    for (int i = lane; i < kBlockCells * kBlockCells * pc.per_cell; i += 256) {
         int local_cell = i / pc.per_cell;
         ivec2 g = block_origin + ivec2(local_cell % kBlockCells, local_cell / kBlockCells);
         bool in_grid = all(lessThan(g, ivec2(pc.cells_x, pc.cells_y)));
