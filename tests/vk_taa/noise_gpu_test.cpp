@@ -78,10 +78,12 @@ Image gpu_noise(const Device& dev, const Scene& s, const EyeDisplay& d, float gx
 }
 
 TEST_F(GpuNoise, MatchesTheCpuModelAcrossEccentricities) {
-    const int n = 64;
     // ppd 12 exercises T_L (the band opens between 18 and 23 degrees), ppd 48 T_H (F_H < Nyquist).
-    struct Case { float ppd, ecc; int impulses; };
-    for (const Case c : {Case{12.0f, 20.0f, 12}, Case{48.0f, 22.0f, 32}}) {
+    // n = 75 leaves partial 16x16 tiles at the right and bottom edges (shared-memory staging).
+    struct Case { int n; float ppd, ecc; int impulses; };
+    for (const Case c : {Case{64, 12.0f, 20.0f, 12}, Case{64, 48.0f, 22.0f, 32},
+                         Case{75, 24.0f, 25.0f, 64}}) {
+        const int n = c.n;
         const EyeDisplay d = display_with_ppd(n, c.ppd);
         const float gx = gaze_x_for_eccentricity(n, c.ppd, c.ecc), gy = 0.5f * n;
         Image rate(n, n, 1, 1.0f);

@@ -68,6 +68,10 @@ public:
         const float r = post::gabor_radius(params_.kernel_bandwidth);
         const int per_cell = post::impulses_per_cell(impulses);
         const float a = params_.kernel_bandwidth;
+        // enhance_noise_apply.comp stages a 4x4 block of cells (≤ 20 impulses each) per 16x16
+        // tile in shared memory, which holds only while a tile spans at most 2x2 home cells.
+        if (!(r >= 15.0f) || per_cell > 20)
+            return make_error("noise kernel radius must be >= 15 px with <= 20 impulses per cell");
         // Cells cover every pixel's 3×3 neighbourhood: indices −1 .. floor((w − ½)/r) + 1.
         push_.cells_x = int32_t(std::floor((float(e.width) - 0.5f) / r)) + 3;
         push_.cells_y = int32_t(std::floor((float(e.height) - 0.5f) / r)) + 3;
@@ -147,7 +151,7 @@ public:
         compute_barrier(f.cmd);
         apply_.bind(f.cmd, VK_NULL_HANDLE, apply_set(f.color_in.view, f.color_out.view), &push,
                     sizeof(push));
-        vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
+        vkCmdDispatch(f.cmd, div_up(e.width, 16), div_up(e.height, 16), 1);
     }
 
 private:
