@@ -9,6 +9,8 @@
 #include <sstream>
 #include <utility>
 
+#include "gauss_jordan.hpp"
+
 namespace fovea::gaze {
 
 namespace {
@@ -32,35 +34,19 @@ double eval(const Calibration::Coefficients& c, const double norm[3], double x, 
     return s;
 }
 
-// Solve the normal equations with partial pivoting; false when (near) singular.
+// Solve the normal equations for both coordinates; false when (near) singular.
 bool solve(double a[kN][kN], double b[2][kN], Calibration::Coefficients& cx,
            Calibration::Coefficients& cy) {
     double m[kN][kN + 2];
-    double scale = 0.0;
     for (int i = 0; i < kN; ++i) {
-        for (int j = 0; j < kN; ++j) {
-            m[i][j] = a[i][j];
-            scale = std::max(scale, std::fabs(a[i][j]));
-        }
+        for (int j = 0; j < kN; ++j) m[i][j] = a[i][j];
         m[i][kN] = b[0][i];
         m[i][kN + 1] = b[1][i];
     }
-    for (int col = 0; col < kN; ++col) {
-        int piv = col;
-        for (int r = col + 1; r < kN; ++r) {
-            if (std::fabs(m[r][col]) > std::fabs(m[piv][col])) piv = r;
-        }
-        if (std::fabs(m[piv][col]) < 1e-12 * std::max(1.0, scale)) return false;
-        for (int j = 0; j < kN + 2; ++j) std::swap(m[col][j], m[piv][j]);
-        for (int r = 0; r < kN; ++r) {
-            if (r == col) continue;
-            const double f = m[r][col] / m[col][col];
-            for (int j = col; j < kN + 2; ++j) m[r][j] -= f * m[col][j];
-        }
-    }
+    if (!detail::gauss_jordan<kN, 2>(m)) return false;
     for (int i = 0; i < kN; ++i) {
-        cx[static_cast<size_t>(i)] = m[i][kN] / m[i][i];
-        cy[static_cast<size_t>(i)] = m[i][kN + 1] / m[i][i];
+        cx[static_cast<size_t>(i)] = m[i][kN];
+        cy[static_cast<size_t>(i)] = m[i][kN + 1];
     }
     return true;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fovea/gaze/sample.hpp"
+#include "gauss_jordan.hpp"
 
 namespace fovea::gaze {
 
@@ -280,19 +281,8 @@ LateCorrection LandingPredictor::fit_late_correction(
             }
         }
         for (int i = 0; i < 3; ++i) a[i][i] += 1e-6;
-        for (int c = 0; c < 3; ++c) {  // Gauss-Jordan with partial pivoting
-            int piv = c;
-            for (int r = c + 1; r < 3; ++r)
-                if (std::fabs(a[r][c]) > std::fabs(a[piv][c])) piv = r;
-            for (int k = 0; k < 4; ++k) std::swap(a[c][k], a[piv][k]);
-            if (std::fabs(a[c][c]) < 1e-12) return out;
-            for (int r = 0; r < 3; ++r) {
-                if (r == c) continue;
-                const double f = a[r][c] / a[c][c];
-                for (int k = c; k < 4; ++k) a[r][k] -= f * a[c][k];
-            }
-        }
-        for (int i = 0; i < 3; ++i) beta[i] = a[i][3] / a[i][i];
+        if (!detail::gauss_jordan<3, 1>(a)) return out;
+        for (int i = 0; i < 3; ++i) beta[i] = a[i][3];
         for (size_t k = 0; k < y.size(); ++k) {
             const double r = beta[0] * x[k][0] + beta[1] * x[k][1] + beta[2] * x[k][2] - y[k];
             w[k] = 1.0 / std::max(std::fabs(r), 0.05);
