@@ -1,6 +1,7 @@
 # Install layout (issue 10): binaries, the systemd unit + socket, sysusers and udev files, the
 # example configuration, the client headers and shared library, foveaConfig.cmake (fovea::client,
-# fovea::vk when built), fovea.pc, and a .deb through CPack. The unit's ExecStart and the config
+# fovea::vk when built, with the GLSL contract and fovea_check_shading()), fovea.pc and
+# fovea-vk.pc, and a .deb through CPack. The unit's ExecStart and the config
 # location follow CMAKE_INSTALL_PREFIX at configure time: for the .deb configure with
 # -DCMAKE_INSTALL_PREFIX=/usr (then the config goes to /etc/fovea and udev/systemd/sysusers
 # files to /usr/lib/...).
@@ -57,6 +58,11 @@ if(TARGET fovea_vk)
     set_target_properties(fovea_vk PROPERTIES EXPORT_NAME vk)
     list(APPEND _fovea_export_targets fovea_vk)
     set(FOVEA_CONFIG_HAVE_VK ON)
+    # The GLSL contract for hosts' own shaders and build-time checks (foveaConfig.cmake).
+    install(FILES ${FOVEA_GLSL_CONTRACT}
+            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/fovea/vk/glsl COMPONENT sdk)
+    install(FILES ${CMAKE_CURRENT_LIST_DIR}/foveaShading.cmake
+            DESTINATION ${FOVEA_CMAKE_DIR} COMPONENT sdk)
 endif()
 install(TARGETS ${_fovea_export_targets} EXPORT foveaTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT sdk
@@ -67,7 +73,8 @@ install(TARGETS ${_fovea_export_targets} EXPORT foveaTargets
 install(EXPORT foveaTargets NAMESPACE fovea:: FILE foveaTargets.cmake
         DESTINATION ${FOVEA_CMAKE_DIR} COMPONENT sdk)
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/foveaConfig.cmake.in
-    ${PROJECT_BINARY_DIR}/cmake/foveaConfig.cmake INSTALL_DESTINATION ${FOVEA_CMAKE_DIR})
+    ${PROJECT_BINARY_DIR}/cmake/foveaConfig.cmake INSTALL_DESTINATION ${FOVEA_CMAKE_DIR}
+    PATH_VARS CMAKE_INSTALL_INCLUDEDIR)
 # The SOVERSION is the ring ABI version; the package version is the project version.
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/cmake/foveaConfigVersion.cmake
     VERSION ${PROJECT_VERSION} COMPATIBILITY SameMajorVersion)
@@ -81,6 +88,12 @@ string(REGEX REPLACE "/$" "" FOVEA_PC_TO_PREFIX "${FOVEA_PC_TO_PREFIX}")
 configure_file(${CMAKE_CURRENT_LIST_DIR}/fovea.pc.in ${PROJECT_BINARY_DIR}/pkgconfig/fovea.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/pkgconfig/fovea.pc
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT sdk)
+if(TARGET fovea_vk)  # `pkg-config fovea-vk`: the Vulkan module (Requires fovea and vulkan)
+    configure_file(${CMAKE_CURRENT_LIST_DIR}/fovea-vk.pc.in ${PROJECT_BINARY_DIR}/pkgconfig/fovea-vk.pc
+                   @ONLY)
+    install(FILES ${PROJECT_BINARY_DIR}/pkgconfig/fovea-vk.pc
+            DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT sdk)
+endif()
 
 # --- .deb -----------------------------------------------------------------------------------
 set(CPACK_GENERATOR "DEB")

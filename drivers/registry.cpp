@@ -4,6 +4,8 @@
 #include "fovea/drivers/driver.hpp"
 #include "gazepoint/gazepoint_driver.hpp"
 #include "hid/hid_driver.hpp"
+#include "osc/osc_driver.hpp"
+#include "pupil/pupil_driver.hpp"
 #include "replay/replay_driver.hpp"
 #include "serial/serial_driver.hpp"
 #include "sim/sim_driver.hpp"
@@ -20,6 +22,8 @@ constexpr DriverRegistration kDrivers[] = {
     {"serial", &serial::make_driver},
     {"gazepoint", &gazepoint::make_driver},
     {"replay", &replay::make_driver},
+    {"pupil", &pupil::make_driver},
+    {"osc", &osc::make_driver},
 };
 
 }  // namespace

@@ -6,8 +6,16 @@ find_package(glslang CONFIG REQUIRED)
 include(FoveaShaders)
 
 file(GLOB_RECURSE _fovea_vk_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/vk/*.cpp)
-add_library(fovea_vk STATIC ${_fovea_vk_sources})
+# Shared, with Debian's static glslang linked in and its symbols kept local (--exclude-libs):
+# one copy of the compiler per system instead of one inside every host binary, and no clash
+# with a host that links its own glslang (engines often do). The C++ API has no ABI promise
+# before 1.0, so the SOVERSION is major.minor.
+add_library(fovea_vk SHARED ${_fovea_vk_sources})
 add_library(fovea::vk ALIAS fovea_vk)
+set_target_properties(fovea_vk PROPERTIES
+    VERSION ${PROJECT_VERSION}
+    SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
+target_link_options(fovea_vk PRIVATE "LINKER:--exclude-libs,ALL" "LINKER:--no-undefined")
 target_include_directories(fovea_vk
     PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src/vk ${PROJECT_SOURCE_DIR}/shaders)
@@ -16,6 +24,14 @@ target_link_libraries(fovea_vk
     PRIVATE glslang::glslang glslang::SPIRV glslang::glslang-default-resource-limits
             Threads::Threads)
 fovea_embed_shaders(fovea_vk ${PROJECT_SOURCE_DIR}/shaders)
+# The GLSL contract hosts compile against (installed under include/fovea/vk/glsl, exported as
+# fovea_GLSL_INCLUDE_DIR and fovea_check_shading() by foveaConfig.cmake).
+set(FOVEA_GLSL_CONTRACT
+    ${PROJECT_SOURCE_DIR}/shaders/fovea_frame.glsl
+    ${PROJECT_SOURCE_DIR}/shaders/fovea_gbuffer.glsl
+    ${PROJECT_SOURCE_DIR}/shaders/fovea_acuity.glsl
+    ${PROJECT_SOURCE_DIR}/shaders/fovea_check.shade.comp
+    CACHE INTERNAL "GLSL files installed for hosts")
 fovea_target_defaults(fovea_vk)
 # Vulkan structs are initialised as `VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};` (the rest zero).
 target_compile_options(fovea_vk PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wno-missing-field-initializers>)

@@ -40,8 +40,9 @@ void main() {
     for (int i = 0; i < 9; ++i) {
         ivec2 q = clamp(2 * t + ivec2(i % 3, i / 3), ivec2(0), hi);
         pos[i] = imageLoad(fovea_g_position, q);
-        nrm[i] = imageLoad(fovea_g_normal, q).xyz;
-        alb[i] = imageLoad(fovea_g_albedo, q).rgb;
+        uvec4 surface = imageLoad(fovea_g_surface, q);
+        nrm[i] = fovea_unpack_normal(surface);
+        alb[i] = fovea_unpack_albedo(surface).rgb;
     }
     vec2 so = vec2(0.0);
     for (int y = 0; y < 3; ++y)

@@ -41,19 +41,16 @@ vec3 demo_pixel_ray(DemoView v, vec2 frag) {
 }
 
 #ifdef DEMO_RASTER_FRAGMENT
-// The six G-buffer images (sdk/include/fovea/vk/gbuffer.hpp) as colour attachments.
+#include "fovea_gbuffer.glsl"
+// The G-buffer images (sdk/include/fovea/vk/gbuffer.hpp) as colour attachments.
 layout(location = 0) out vec4 g_position;
-layout(location = 1) out vec4 g_normal;
-layout(location = 2) out vec4 g_albedo;
-layout(location = 3) out vec4 g_material;
-layout(location = 4) out float g_depth;
-layout(location = 5) out vec2 g_motion;
+layout(location = 1) out uvec4 g_surface;
+layout(location = 2) out float g_depth;
+layout(location = 3) out vec2 g_motion;
 
 void demo_write_surface(DemoView v, vec3 w, float dist, vec3 n, vec3 albedo, vec4 material) {
     g_position = vec4(w, dist);
-    g_normal = vec4(n, 0.0);
-    g_albedo = vec4(albedo, 1.0);
-    g_material = material;
+    g_surface = fovea_pack_surface(n, albedo, 1.0, material);
     g_depth = clamp(1.0 - kNear / max(dist, kNear), 0.0, 1.0);
     // Where this point was in the previous frame's view (static scene, moving camera).
     g_motion = vec2(0.0);
@@ -70,9 +67,7 @@ void demo_write_surface(DemoView v, vec3 w, float dist, vec3 n, vec3 albedo, vec
 // Background: no surface; the normal carries the view direction for the environment lookup.
 void demo_write_background(vec3 rd) {
     g_position = vec4(0.0);
-    g_normal = vec4(rd, 0.0);
-    g_albedo = vec4(0.0, 0.0, 0.0, 1.0);
-    g_material = vec4(0.0);
+    g_surface = fovea_pack_surface(rd, vec3(0.0), 1.0, vec4(0.0));
     g_depth = 1.0;
     g_motion = vec2(0.0);
 }

@@ -83,7 +83,9 @@ vec3 demo_brdf(vec3 n, vec3 v, vec3 l, vec3 albedo, float rough, float metal) {
     float k = a * 0.5;
     float g = nv / (nv * (1.0 - k) + k) * nl / (nl * (1.0 - k) + k);
     vec3 f0 = mix(vec3(0.04), albedo, metal);
-    vec3 f = f0 + (1.0 - f0) * pow(1.0 - max(dot(h, v), 0.0), 5.0);
+    // Clamped on both sides: where v and l are nearly parallel (distant terrain, lit from near
+    // the camera) rounding puts dot(h, v) above 1, and pow() of a negative base is NaN.
+    vec3 f = f0 + (1.0 - f0) * pow(clamp(1.0 - dot(h, v), 0.0, 1.0), 5.0);
     vec3 spec = d * g * f / max(4.0 * nv * nl, 1e-3);
     return ((1.0 - metal) * albedo / kPi * (1.0 - f) + spec) * nl;
 }

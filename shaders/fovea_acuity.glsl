@@ -66,16 +66,21 @@ float fovea_eccentricity_deg(FoveaDisplay d, vec2 p, vec2 g) {
     return e;
 }
 
-// Angular size (degrees) of one pixel at p: derivative of atan(x/s), the larger of both axes.
-float fovea_pixel_size_deg(FoveaDisplay d, vec2 p) {
+// Angular size (degrees) of one pixel at p along x and along y: derivative of atan(x/s).
+vec2 fovea_pixel_size_deg_axes(FoveaDisplay d, vec2 p) {
     precise float sx = d.size_px.x * 0.5f / d.half_tan.x;
     precise float sy = d.size_px.y * 0.5f / d.half_tan.y;
     precise float ux = (p.x - d.size_px.x * 0.5f) / sx;
     precise float uy = (p.y - d.size_px.y * 0.5f) / sy;
-    precise float dx = 1.0f / (sx * (1.0f + ux * ux));
-    precise float dy = 1.0f / (sy * (1.0f + uy * uy));
-    precise float r = max(dx, dy) * 57.29577951308232f;
-    return r;
+    precise float dx = 1.0f / (sx * (1.0f + ux * ux)) * 57.29577951308232f;
+    precise float dy = 1.0f / (sy * (1.0f + uy * uy)) * 57.29577951308232f;
+    return vec2(dx, dy);
+}
+
+// Angular size (degrees) of one pixel at p: the larger of both axes.
+float fovea_pixel_size_deg(FoveaDisplay d, vec2 p) {
+    vec2 a = fovea_pixel_size_deg_axes(d, p);
+    return max(a.x, a.y);
 }
 
 // Guenter Eq. 1: minimum angle of resolution, degrees per cycle.

@@ -5,6 +5,11 @@
 #define FOVEA_FRAME_GLSL
 
 #include "fovea_acuity.glsl"
+#include "fovea_gbuffer.glsl"
+
+// The host's own descriptor set (FoveatorConfig::host_set_layout, FrameInputs::host_set): a
+// shading function declares its resources as layout(set = FOVEA_HOST_SET, binding = n).
+#define FOVEA_HOST_SET 2
 
 layout(std140, set = 0, binding = 0) uniform FoveaFrameUniforms {
     vec2 extent;          // output size in pixels
@@ -20,18 +25,16 @@ layout(std140, set = 0, binding = 0) uniform FoveaFrameUniforms {
 
 // G-buffer (read by the module, written by the host), all VK_IMAGE_LAYOUT_GENERAL.
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D fovea_g_position;  // xyz world, w view distance (0 = background)
-layout(set = 0, binding = 2, rgba16f) uniform readonly image2D fovea_g_normal;    // xyz unit world normal, w host
-layout(set = 0, binding = 3, rgba8) uniform readonly image2D fovea_g_albedo;      // rgb linear albedo, a host
-layout(set = 0, binding = 4, rgba16f) uniform readonly image2D fovea_g_material;  // x material id (integer), yzw host
-layout(set = 0, binding = 5, r32f) uniform readonly image2D fovea_g_depth;        // 0..1, 1 = far/background
-layout(set = 0, binding = 6, rg16f) uniform readonly image2D fovea_g_motion;      // pixels, current - previous
+layout(set = 0, binding = 2, rgba32ui) uniform readonly uimage2D fovea_g_surface; // normal, albedo, material (fovea_gbuffer.glsl)
+layout(set = 0, binding = 3, r32f) uniform readonly image2D fovea_g_depth;        // 0..1, 1 = far/background
+layout(set = 0, binding = 4, rg16f) uniform readonly image2D fovea_g_motion;      // pixels, current - previous
 
 // Outputs of the shading stage.
-layout(set = 0, binding = 7, rgba16f) uniform writeonly image2D fovea_out_color;  // linear HDR rgb, a = 1
-layout(set = 0, binding = 8, r16f) uniform writeonly image2D fovea_out_rate;      // S_t (0 fovea .. 1 coarsest)
+layout(set = 0, binding = 5, rgba16f) uniform writeonly image2D fovea_out_color;  // linear HDR rgb, a = 1
+layout(set = 0, binding = 6, r16f) uniform writeonly image2D fovea_out_rate;      // S_t (0 fovea .. 1 coarsest)
 
 // Counters read back after each frame (sdk/src/vk/frame_uniforms.hpp FrameStats).
-layout(std430, set = 0, binding = 9) buffer FoveaStats {
+layout(std430, set = 0, binding = 7) buffer FoveaStats {
     uint shaded_samples;  // every method adds the samples it shaded
     uint edge_samples;    // of which: extra samples at coarse-pixel discontinuities
     uint tiles[4];        // tiles per rate class (1x1, 2x2, 4x4, skipped)
@@ -45,11 +48,10 @@ layout(std430, set = 0, binding = 9) buffer FoveaStats {
 struct FoveaGSample {
     vec3 position;   // world
     float distance;  // view distance, 0 = background (no geometry)
-    vec3 normal;
-    float normal_w;
+    vec3 normal;     // unit
     vec3 albedo;
     float albedo_a;
-    vec4 material;   // x = material id
+    vec4 material;   // x = material id (an integer), yzw host-defined (stored as halves)
     float depth;
     vec2 motion;
     bool background;
@@ -64,22 +66,26 @@ struct FoveaFootprint {
     float rate_s;           // normalized shading rate S_t of the region
 };
 
-FoveaGSample fovea_load_gsample(ivec2 p) {
+// A sample from its G-buffer texels (the full-resolution images here, a layer's in layers_shade).
+FoveaGSample fovea_decode_gsample(vec4 pos, uvec4 surface, float depth, vec2 motion) {
     FoveaGSample g;
-    vec4 pos = imageLoad(fovea_g_position, p);
-    vec4 nrm = imageLoad(fovea_g_normal, p);
-    vec4 alb = imageLoad(fovea_g_albedo, p);
     g.position = pos.xyz;
     g.distance = pos.w;
-    g.normal = nrm.xyz;
-    g.normal_w = nrm.w;
+    g.normal = fovea_unpack_normal(surface);
+    vec4 alb = fovea_unpack_albedo(surface);
     g.albedo = alb.rgb;
     g.albedo_a = alb.a;
-    g.material = imageLoad(fovea_g_material, p);
-    g.depth = imageLoad(fovea_g_depth, p).x;
-    g.motion = imageLoad(fovea_g_motion, p).xy;
+    g.material = fovea_unpack_material(surface);
+    g.depth = depth;
+    g.motion = motion;
     g.background = !(pos.w > 0.0);
     return g;
+}
+
+// Loads the shader does not use (depth, motion, most often) are dropped by the compiler.
+FoveaGSample fovea_load_gsample(ivec2 p) {
+    return fovea_decode_gsample(imageLoad(fovea_g_position, p), imageLoad(fovea_g_surface, p),
+                                imageLoad(fovea_g_depth, p).x, imageLoad(fovea_g_motion, p).xy);
 }
 
 FoveaFootprint fovea_make_footprint(vec2 centre_px, float size_px, float distance, float rate_s) {

@@ -6,13 +6,12 @@
 #include "fovea_host.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
+// The layer's G-buffer, as fovea_frame.glsl's set 0 bindings 1-4 (gbuffer.hpp), then its colour.
 layout(set = 1, binding = 0, rgba32f) uniform readonly image2D l_position;
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D l_normal;
-layout(set = 1, binding = 2, rgba8) uniform readonly image2D l_albedo;
-layout(set = 1, binding = 3, rgba16f) uniform readonly image2D l_material;
-layout(set = 1, binding = 4, r32f) uniform readonly image2D l_depth;
-layout(set = 1, binding = 5, rg16f) uniform readonly image2D l_motion;
-layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D l_color;
+layout(set = 1, binding = 1, rgba32ui) uniform readonly uimage2D l_surface;
+layout(set = 1, binding = 2, r32f) uniform readonly image2D l_depth;
+layout(set = 1, binding = 3, rg16f) uniform readonly image2D l_motion;
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D l_color;
 
 layout(push_constant) uniform ShadePush {
     vec2 origin;   // full-resolution pixel of the layer's top-left corner
@@ -30,20 +29,8 @@ void main() {
         atomicAdd(fovea_stats.shaded_samples, uint(n.x * n.y));
     }
     if (all(lessThan(t, size))) {
-        FoveaGSample g;
-        vec4 pos = imageLoad(l_position, t);
-        vec4 nrm = imageLoad(l_normal, t);
-        vec4 alb = imageLoad(l_albedo, t);
-        g.position = pos.xyz;
-        g.distance = pos.w;
-        g.normal = nrm.xyz;
-        g.normal_w = nrm.w;
-        g.albedo = alb.rgb;
-        g.albedo_a = alb.a;
-        g.material = imageLoad(l_material, t);
-        g.depth = imageLoad(l_depth, t).x;
-        g.motion = imageLoad(l_motion, t).xy;
-        g.background = !(pos.w > 0.0);
+        FoveaGSample g = fovea_decode_gsample(imageLoad(l_position, t), imageLoad(l_surface, t),
+                                              imageLoad(l_depth, t).x, imageLoad(l_motion, t).xy);
         vec2 centre = sp.origin + (vec2(t) + 0.5 + sp.jitter) * sp.s;
         float s_t = clamp(log2(sp.s) * 0.5, 0.0, 1.0);
         vec3 c = fovea_shade(g, fovea_make_footprint(centre, sp.s, g.distance, s_t));

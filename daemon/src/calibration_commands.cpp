@@ -75,8 +75,9 @@ std::pair<double, double> target_arg(const json& req, const gaze::DisplayGeometr
     } else if (req.contains("deg_x") || req.contains("deg_y")) {
         display.to_normalized(number(req, "deg_x", cmd), number(req, "deg_y", cmd), x, y);
     } else {
-        fail(cmd + " needs a target: {\"x\", \"y\"} in normalized display coordinates (0..1) or "
-                   "{\"deg_x\", \"deg_y\"} in degrees from the display centre");
+        fail(cmd +
+             " needs a target: {\"x\", \"y\"} in normalized display coordinates (0..1) or "
+             "{\"deg_x\", \"deg_y\"} in degrees from the display centre");
     }
     if (!(x >= 0 && x <= 1 && y >= 0 && y <= 1)) fail(cmd + ": the target must be on the display");
     return {x, y};
@@ -194,9 +195,13 @@ public:
         s.calibration.begin();
         const bool restarted = session_.has_value();
         session_ = std::move(s);
-        log()->info("calibration: session for {} on device {} ({} eyes)", user, session_->device, eyes);
-        return {{"user", user}, {"device", session_->device}, {"eyes", eyes},
-                {"restarted", restarted}, {"settle_ms", settings_.settle_ms},
+        log()->info("calibration: session for {} on device {} ({} eyes)", user, session_->device,
+                    eyes);
+        return {{"user", user},
+                {"device", session_->device},
+                {"eyes", eyes},
+                {"restarted", restarted},
+                {"settle_ms", settings_.settle_ms},
                 {"collect_ms", settings_.collect_ms}};
     }
 
@@ -219,12 +224,16 @@ public:
         if (!p.live) {
             const json& samples = req["samples"];
             if (!samples.is_array() || samples.size() > kMaxSamplesPerPoint)
-                fail("calibrate.point: \"samples\" must be an array of {\"left\": [x, y], \"right\": "
-                     "[x, y]} (at most " + std::to_string(kMaxSamplesPerPoint) + ")");
+                fail(
+                    "calibrate.point: \"samples\" must be an array of {\"left\": [x, y], "
+                    "\"right\": "
+                    "[x, y]} (at most " +
+                    std::to_string(kMaxSamplesPerPoint) + ")");
             std::vector<std::pair<gaze::EyeSample, gaze::EyeSample>> parsed;
             for (std::size_t i = 0; i < samples.size(); ++i) {
                 const json& e = samples[i];
-                if (!e.is_object()) fail("calibrate.point: samples[" + std::to_string(i) + "] must be an object");
+                if (!e.is_object())
+                    fail("calibrate.point: samples[" + std::to_string(i) + "] must be an object");
                 parsed.emplace_back(eye_arg(e.value("left", json()), i, "left"),
                                     eye_arg(e.value("right", json()), i, "right"));
             }
@@ -236,7 +245,8 @@ public:
         } else {
             const int64_t now = now_ns();
             p.collect_from_ns = now + static_cast<int64_t>(settings_.settle_ms * 1e6);
-            p.collect_until_ns = p.collect_from_ns + static_cast<int64_t>(settings_.collect_ms * 1e6);
+            p.collect_until_ns =
+                p.collect_from_ns + static_cast<int64_t>(settings_.collect_ms * 1e6);
             const int following = daemon_.show_target(true, x, y);
             reply["collecting"] = true;
             reply["ready_in_ms"] = settings_.settle_ms + settings_.collect_ms;
@@ -256,9 +266,14 @@ public:
         const bool apply = flag(req, "apply", true, "calibrate.finish");
         const gaze::CalibrationQuality before = s.calibration.evaluate_unmapped();
         auto after = s.calibration.fit();
-        if (!after) fail("calibrate.finish: " + after.error().message + " (the session stays open)");
-        json reply = {{"user", s.user}, {"device", s.device}, {"before", quality_json(before)},
-                      {"after", quality_json(*after)}, {"stored", nullptr}, {"applied", apply}};
+        if (!after)
+            fail("calibrate.finish: " + after.error().message + " (the session stays open)");
+        json reply = {{"user", s.user},
+                      {"device", s.device},
+                      {"before", quality_json(before)},
+                      {"after", quality_json(*after)},
+                      {"stored", nullptr},
+                      {"applied", apply}};
         if (store) reply["stored"] = save(s);
         if (apply) {
             daemon_.set_calibration(s.device, &s.calibration);
@@ -301,8 +316,9 @@ public:
         const auto [x, y] = target_arg(req, display_, "calibrate.target");
         double dx = 0, dy = 0;
         display_.to_degrees(x, y, dx, dy);
-        return {{"shown", true}, {"x", x}, {"y", y}, {"deg_x", dx}, {"deg_y", dy},
-                {"devices_following", daemon_.show_target(true, x, y)}};
+        return {{"shown", true}, {"x", x},
+                {"y", y},        {"deg_x", dx},
+                {"deg_y", dy},   {"devices_following", daemon_.show_target(true, x, y)}};
     }
 
     json list() const {
@@ -324,7 +340,8 @@ public:
         }
         std::sort(users.begin(), users.end(),
                   [](const json& a, const json& b) { return a["user"] < b["user"]; });
-        return {{"dir", dir_}, {"calibrations", users},
+        return {{"dir", dir_},
+                {"calibrations", users},
                 {"active", active_ ? json(active_->user) : json(nullptr)}};
     }
 
@@ -338,7 +355,10 @@ public:
         }
         json points = json::array();
         for (const Point& p : session_->points) {
-            json pj = {{"x", p.x}, {"y", p.y}, {"done", p.done}, {"samples", p.samples},
+            json pj = {{"x", p.x},
+                       {"y", p.y},
+                       {"done", p.done},
+                       {"samples", p.samples},
                        {"invalid", p.invalid}};
             if (p.live) {
                 pj["settle_discarded"] = p.settle_discarded;
@@ -347,8 +367,10 @@ public:
             points.push_back(pj);
         }
         const bool collecting = !session_->points.empty() && !session_->points.back().done;
-        j["session"] = {{"user", session_->user}, {"device", session_->device},
-                        {"points", points}, {"collecting", collecting}};
+        j["session"] = {{"user", session_->user},
+                        {"device", session_->device},
+                        {"points", points},
+                        {"collecting", collecting}};
         return j;
     }
 
@@ -417,7 +439,8 @@ private:
         }
         if (!daemon_.set_calibration(*device, &*c))
             fail(*path + ": device " + std::to_string(*device) + " does not exist");
-        if (active_ && active_->device != *device) daemon_.set_calibration(active_->device, nullptr);
+        if (active_ && active_->device != *device)
+            daemon_.set_calibration(active_->device, nullptr);
         active_ = Active{user, *device, std::move(c).value()};
     }
 
@@ -447,8 +470,9 @@ void attach_calibration(Daemon& daemon) {
     auto& c = daemon.control();
     using H = std::function<json(CalibrationService&, const json&)>;
     auto add = [&](const char* name, bool admin, const char* help, H h) {
-        c.add_command(name, [svc, h](const json& req, const PeerCredentials&) { return h(*svc, req); },
-                      admin, help);
+        c.add_command(
+            name, [svc, h](const json& req, const PeerCredentials&) { return h(*svc, req); }, admin,
+            help);
     };
     add("calibrate.start", true, "begin a calibration: {\"user\": NAME, \"eyes\": \"both\"}",
         [](CalibrationService& s, const json& r) { return s.start(r); });
@@ -464,7 +488,8 @@ void attach_calibration(Daemon& daemon) {
         [](CalibrationService& s, const json& r) { return s.apply(r); });
     add("calibrate.clear", true, "stop applying a calibration",
         [](CalibrationService& s, const json&) { return s.clear(); });
-    add("calibrate.target", true, "show a target {\"x\", \"y\"} or {\"hide\": true} without collecting",
+    add("calibrate.target", true,
+        "show a target {\"x\", \"y\"} or {\"hide\": true} without collecting",
         [](CalibrationService& s, const json& r) { return s.target(r); });
     add("calibrate.list", false, "stored calibrations per user",
         [](CalibrationService& s, const json&) { return s.list(); });

@@ -1,15 +1,18 @@
 #include "config.hpp"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "fovea/gaze/calibration.hpp"
+#include "profiles/display_profile.hpp"
 
 namespace fovea::daemon {
 namespace {
 
-const char* kKnownTopLevel[] = {"instance", "log_level", "ring", "display", "device", "recording",
-                                "zmq", "calibration", "processing"};
+const char* kKnownTopLevel[] = {"instance",   "log_level",      "ring", "display",
+                                "device",     "recording",      "zmq",  "calibration",
+                                "processing", "display_profile"};
 
 Error key_error(const std::string& origin, const std::string& key, const std::string& what) {
     return make_error(origin + ": " + key + ": " + what);
@@ -22,8 +25,9 @@ Result<void> read_number(const toml::table& t, const char* key, T& out, double l
     if (!n) return {};
     std::optional<double> v = n->value<double>();
     if (!v || !(*v >= lo && *v <= hi))
-        return key_error(origin, prefix + key,
-                         "must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return key_error(
+            origin, prefix + key,
+            "must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     out = static_cast<T>(*v);
     return {};
 }
@@ -38,8 +42,19 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
         root = toml::parse(text, origin);
     } catch (const toml::parse_error& e) {
         const auto& where = e.source().begin;
+        // toml++ quotes the offending bytes; control characters would break the one line.
+        std::string what;
+        for (const char ch : e.description()) {
+            if (static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7f) {
+                what += ch;
+            } else {
+                char hex[8];
+                std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(ch));
+                what += hex;
+            }
+        }
         return make_error(origin + ":" + std::to_string(where.line) + ":" +
-                          std::to_string(where.column) + ": " + std::string(e.description()));
+                          std::to_string(where.column) + ": " + what);
     }
     for (const auto& [key, node] : root) {
         bool known = false;
@@ -61,6 +76,27 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                        read_number(*d, "distance_m", g.distance_m, 1e-3, 100, origin, "display.")})
             if (!r) return r.error();
     }
+    if (const toml::node* n = root.get("display_profile")) {
+        const std::optional<std::string> name = n->value<std::string>();
+        if (!name || name->empty())
+            return key_error(origin, "display_profile", "must be a profile name or a path");
+        if (root.contains("display"))
+            return key_error(origin, "display_profile",
+                             "set either display_profile or [display], not both");
+        auto profile = drivers::profiles::find_profile(*name);
+        if (!profile) return key_error(origin, "display_profile", profile.error().message);
+        cfg.display_profile = profile->name;
+        cfg.display = profile->display_geometry(0);
+        if (profile->kind == drivers::profiles::DisplayKind::kHmd) {
+            for (int e = 0; e < 2; ++e) {
+                const auto& v = profile->eye(e);
+                const double fov[4] = {v.fov_left_deg, v.fov_right_deg, v.fov_up_deg,
+                                       v.fov_down_deg};
+                for (int k = 0; k < 4; ++k) cfg.eyes.fov_deg[e][k] = static_cast<float>(fov[k]);
+            }
+            cfg.eyes.ipd_m = static_cast<float>(profile->ipd_m);
+        }
+    }
     if (const toml::node* p = root.get("processing")) {
         const toml::table* t = p->as_table();
         if (!t) return key_error(origin, "processing", "must be a table");
@@ -73,7 +109,8 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                 return key_error(origin, "processing.publish", "must be \"live\" or \"final\"");
             cfg.publish = *v == "live" ? PublishMode::kLive : PublishMode::kFinal;
         }
-        if (auto r = read_number(*t, "lookahead_ms", cfg.lookahead_ms, 5, 2000, origin, "processing.");
+        if (auto r =
+                read_number(*t, "lookahead_ms", cfg.lookahead_ms, 5, 2000, origin, "processing.");
             !r)
             return r.error();
     }
@@ -98,8 +135,9 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
                 return key_error(origin, "calibration.dir", "must be an absolute path");
             cc.dir = *d->value<std::string>();
         }
-        for (auto r : {read_number(*t, "settle_ms", cc.settle_ms, 0, 5000, origin, "calibration."),
-                       read_number(*t, "collect_ms", cc.collect_ms, 50, 10000, origin, "calibration.")})
+        for (auto r :
+             {read_number(*t, "settle_ms", cc.settle_ms, 0, 5000, origin, "calibration."),
+              read_number(*t, "collect_ms", cc.collect_ms, 50, 10000, origin, "calibration.")})
             if (!r) return r.error();
     }
     if (const toml::node* z = root.get("zmq")) {
@@ -113,7 +151,8 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
         if (!arr) return key_error(origin, "device", "must be an array of tables ([[device]])");
         for (std::size_t i = 0; i < arr->size(); ++i) {
             const toml::table* t = arr->get(i)->as_table();
-            if (!t) return key_error(origin, "device[" + std::to_string(i) + "]", "must be a table");
+            if (!t)
+                return key_error(origin, "device[" + std::to_string(i) + "]", "must be a table");
             if (t->contains("driver") && !(*t)["driver"].is_string())
                 return key_error(origin, "device[" + std::to_string(i) + "].driver",
                                  "must be a string");

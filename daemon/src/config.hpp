@@ -11,6 +11,7 @@
 #include "fovea/gaze/event_detector.hpp"
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
+#include "fovea/ring.h"
 #include "zmq_publisher.hpp"
 
 namespace fovea::daemon {
@@ -18,10 +19,10 @@ namespace fovea::daemon {
 // [calibration]: whose stored calibration the daemon applies at start, where calibrations
 // live, and how calibrate.point collects from the live device.
 struct CalibrationConfig {
-    std::string user;       // "" = start uncalibrated
-    std::string dir;        // "" = <state_dir()>/calibrations
-    double settle_ms = 300;   // discarded after a target appears (saccadic latency)
-    double collect_ms = 1000; // then collected per target
+    std::string user;          // "" = start uncalibrated
+    std::string dir;           // "" = <state_dir()>/calibrations
+    double settle_ms = 300;    // discarded after a target appears (saccadic latency)
+    double collect_ms = 1000;  // then collected per target
 };
 
 // [processing] publish: what the gaze ring carries. kLive publishes every sample as soon as the
@@ -35,6 +36,10 @@ struct DaemonConfig {
     std::string log_level = "info";
     uint32_t ring_slots = 4096;
     gaze::DisplayGeometry display;
+    // display_profile = "<name or path>" (drivers/profiles): sets `display` from the profile and,
+    // for an HMD, the eye geometry the gaze ring carries for its readers (the OpenXR layer).
+    std::string display_profile;  // the profile's name, "" when [display] (or the default) is used
+    fovea_eye_geometry eyes{};    // zero unless display_profile names an HMD
     CalibrationConfig calibration;
     PublishMode publish = PublishMode::kLive;  // [processing] publish = "live" | "final"
     // [processing] lookahead_ms: the event detector's bound on how long a final label waits.

@@ -53,10 +53,9 @@ public:
 
     void read_next() {
         auto self = shared_from_this();
-        asio::async_read_until(socket_, buffer_, '\n',
-                               [self](boost::system::error_code ec, std::size_t n) {
-                                   self->on_line(ec, n);
-                               });
+        asio::async_read_until(
+            socket_, buffer_, '\n',
+            [self](boost::system::error_code ec, std::size_t n) { self->on_line(ec, n); });
     }
 
 private:
@@ -100,11 +99,15 @@ private:
 };
 
 ControlServer::ControlServer(asio::io_context& io) : io_(io) {
-    add_command("help", [this](const json&, const PeerCredentials&) {
-        json cmds = json::object();
-        for (const auto& [name, c] : commands_) cmds[name] = c.help + (c.mutating ? " (admin)" : "");
-        return json{{"commands", cmds}};
-    }, false, "list the commands");
+    add_command(
+        "help",
+        [this](const json&, const PeerCredentials&) {
+            json cmds = json::object();
+            for (const auto& [name, c] : commands_)
+                cmds[name] = c.help + (c.mutating ? " (admin)" : "");
+            return json{{"commands", cmds}};
+        },
+        false, "list the commands");
 }
 
 ControlServer::~ControlServer() { close(); }
@@ -228,8 +231,9 @@ Result<json> control_request(const std::string& socket_path, const json& request
     while (in.find('\n') == std::string::npos) {
         pollfd p{fd, POLLIN, 0};
         const int r = ::poll(&p, 1, timeout_ms);
-        if (r == 0) return make_error("no reply from " + socket_path + " within " +
-                                      std::to_string(timeout_ms) + " ms");
+        if (r == 0)
+            return make_error("no reply from " + socket_path + " within " +
+                              std::to_string(timeout_ms) + " ms");
         if (r < 0 && errno == EINTR) continue;
         const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
         if (n <= 0) return make_error("connection closed by " + socket_path);

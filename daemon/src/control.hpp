@@ -33,8 +33,8 @@ bool peer_is_admin(const PeerCredentials& peer, const char* admin_group = "fovea
 
 // A handler returns the reply's fields ("ok" is added); throwing std::exception makes an error
 // reply with its text. Called on the loop thread.
-using ControlHandler = std::function<nlohmann::json(const nlohmann::json& request,
-                                                    const PeerCredentials& peer)>;
+using ControlHandler =
+    std::function<nlohmann::json(const nlohmann::json& request, const PeerCredentials& peer)>;
 
 class ControlServer {
 public:
@@ -77,7 +77,7 @@ private:
 };
 
 // Client side (the CLI, tests): send one request, wait for its reply.
-Result<nlohmann::json> control_request(const std::string& socket_path, const nlohmann::json& request,
-                                       int timeout_ms = 2000);
+Result<nlohmann::json> control_request(const std::string& socket_path,
+                                       const nlohmann::json& request, int timeout_ms = 2000);
 
 }  // namespace fovea::daemon

@@ -94,7 +94,8 @@ Result<void> Daemon::take_instance_lock() {
     if (ec) return make_error("cannot create runtime directory " + dir + ": " + ec.message());
     const std::string path = lock_file_path(config_.instance);
     lock_fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock_fd_ < 0) return make_error("cannot open lock file " + path + ": " + std::strerror(errno));
+    if (lock_fd_ < 0)
+        return make_error("cannot open lock file " + path + ": " + std::strerror(errno));
     if (flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
         char pid[32] = {};
         [[maybe_unused]] auto n = ::pread(lock_fd_, pid, sizeof pid - 1, 0);
@@ -128,10 +129,13 @@ Result<void> Daemon::start() {
         d->id = static_cast<uint32_t>(i);
         d->config = device_tables[i];
         // The simulated tracker draws on the same screen the chain maps gaze onto.
-        if (d->config["driver"].value_or(std::string("sim")) == "sim" && !d->config.contains("display")) {
+        if (d->config["driver"].value_or(std::string("sim")) == "sim" &&
+            !d->config.contains("display")) {
             const auto& g = config_.display;
-            d->config.insert("display", toml::table{{"width_px", g.width_px}, {"height_px", g.height_px},
-                                                    {"width_m", g.width_m}, {"height_m", g.height_m},
+            d->config.insert("display", toml::table{{"width_px", g.width_px},
+                                                    {"height_px", g.height_px},
+                                                    {"width_m", g.width_m},
+                                                    {"height_m", g.height_m},
                                                     {"distance_m", g.distance_m}});
         }
         auto drv = drivers::make_driver(d->config, d->id);
@@ -144,6 +148,7 @@ Result<void> Daemon::start() {
     }
     ro.nominal_rate_hz = static_cast<uint32_t>(devices_.front()->info.nominal_rate_hz);
     ro.device_name = devices_.front()->info.name;
+    ro.eyes = config_.eyes;
     auto ring = ring::RingWriter::create(ro);
     if (!ring) return make_error("ring: " + ring.error().message);
     gaze_ring_ = std::move(ring).value();
@@ -153,11 +158,12 @@ Result<void> Daemon::start() {
     head_ring_ = std::move(head).value();
     for (auto& d : devices_) {
         Device* dev = d.get();
-        dev->driver->set_head_sink([this, dev](const drivers::HeadPose& p) { publish_head(*dev, p); });
+        dev->driver->set_head_sink(
+            [this, dev](const drivers::HeadPose& p) { publish_head(*dev, p); });
     }
 
     register_commands();
-    attach_recording(*this);  // record.* / latency.* commands and status sections
+    attach_recording(*this);    // record.* / latency.* commands and status sections
     attach_calibration(*this);  // calibrate.* commands, the configured user's calibration
     if (auto r = attach_zmq_publisher(*this); !r) return r;  // [zmq] fan-out, when configured
     bool socket_from_systemd = false;
@@ -227,7 +233,8 @@ void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
         // precedes the first sample: start the chain on what the device says, not the defaults.
         const drivers::DriverInfo now = d.driver->describe();
         if (now.clock.counter_bits != d.info.clock.counter_bits ||
-            now.clock.tick_hz != d.info.clock.tick_hz || now.nominal_rate_hz != d.info.nominal_rate_hz) {
+            now.clock.tick_hz != d.info.clock.tick_hz ||
+            now.nominal_rate_hz != d.info.nominal_rate_hz) {
             d.pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(now, readers_attached_));
             if (d.calibration) d.pipeline->set_calibration(*d.calibration);
         }
@@ -307,16 +314,23 @@ void Daemon::publish_head(Device& d, const drivers::HeadPose& pose) {
 }
 
 void Daemon::register_commands() {
-    control_.add_command("status", [this](const json&, const PeerCredentials&) { return status(); },
-                         false, "daemon, devices, rates, drops, latency, uptime");
-    control_.add_command("devices", [this](const json&, const PeerCredentials&) {
-        return json{{"devices", status()["devices"]}};
-    }, false, "the configured devices and their counters");
-    control_.add_command("shutdown", [this](const json&, const PeerCredentials& peer) {
-        log()->info("shutdown requested over the control socket by pid {}", peer.pid);
-        asio::post(io_, [this] { request_stop(); });
-        return json{{"stopping", true}};
-    }, true, "stop the daemon");
+    control_.add_command(
+        "status", [this](const json&, const PeerCredentials&) { return status(); }, false,
+        "daemon, devices, rates, drops, latency, uptime");
+    control_.add_command(
+        "devices",
+        [this](const json&, const PeerCredentials&) {
+            return json{{"devices", status()["devices"]}};
+        },
+        false, "the configured devices and their counters");
+    control_.add_command(
+        "shutdown",
+        [this](const json&, const PeerCredentials& peer) {
+            log()->info("shutdown requested over the control socket by pid {}", peer.pid);
+            asio::post(io_, [this] { request_stop(); });
+            return json{{"stopping", true}};
+        },
+        true, "stop the daemon");
 }
 
 bool Daemon::set_calibration(uint32_t device, const gaze::Calibration* calibration) {
@@ -367,6 +381,12 @@ json Daemon::status() const {
             {"lookahead_samples", d->pipeline->lookahead_samples()},
             {"lookahead_ms", lookahead_ms(*d)},
         });
+        if (!st.figures.empty() || !st.notes.empty()) {
+            json details = json::object();
+            for (const auto& [k, v] : st.figures) details[k] = v;
+            for (const auto& [k, v] : st.notes) details[k] = v;
+            devices.back()["details"] = details;
+        }
     }
     json s = {
         {"instance", config_.instance},
@@ -374,6 +394,7 @@ json Daemon::status() const {
         {"version", FOVEA_VERSION},
         {"uptime_s", static_cast<double>(now_ns() - started_ns_) / 1e9},
         {"config", config_path_},
+        {"display_profile", config_.display_profile},
         {"ring",
          {{"name", gaze_ring_.name()},
           {"generation", gaze_ring_.generation()},
@@ -407,7 +428,8 @@ void Daemon::tick() {
     for (auto& d : devices_) {
         if (d->raw_samples > 0) d->info = d->driver->describe();  // names from the handshake
         const uint64_t n = d->raw_samples;
-        d->measured_rate_hz = 0.8 * d->measured_rate_hz + 0.2 * static_cast<double>(n - d->rate_mark) * 4.0;
+        d->measured_rate_hz =
+            0.8 * d->measured_rate_hz + 0.2 * static_cast<double>(n - d->rate_mark) * 4.0;
         d->rate_mark = n;
     }
     if (watchdog_usec_) notify("WATCHDOG=1");

@@ -41,9 +41,12 @@ public:
     boost::asio::io_context& io() { return io_; }
     ControlServer& control() { return control_; }
     using RawObserver = std::function<void(const gaze::RawSample&)>;
-    using PublishedObserver = std::function<void(const gaze::GazeSample&, const fovea_gaze_record&)>;
+    using PublishedObserver =
+        std::function<void(const gaze::GazeSample&, const fovea_gaze_record&)>;
     void add_raw_observer(RawObserver o) { raw_observers_.push_back(std::move(o)); }
-    void add_published_observer(PublishedObserver o) { published_observers_.push_back(std::move(o)); }
+    void add_published_observer(PublishedObserver o) {
+        published_observers_.push_back(std::move(o));
+    }
     // Status sections contributed by other subsystems.
     void add_status_section(const std::string& key, std::function<nlohmann::json()> fn) {
         status_sections_.emplace_back(key, std::move(fn));
@@ -74,7 +77,8 @@ private:
     void publish_head(Device& d, const drivers::HeadPose& pose);
     double lookahead_ms(const Device& d) const;
     // The gaze chain's configuration for a device as it describes itself.
-    gaze::PipelineConfig pipeline_config(const drivers::DriverInfo& info, bool predict_landing) const;
+    gaze::PipelineConfig pipeline_config(const drivers::DriverInfo& info,
+                                         bool predict_landing) const;
     void register_commands();
     void on_signal(int signo);
     void reload();

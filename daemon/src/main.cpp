@@ -5,9 +5,9 @@
 #include <cstdlib>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "config.hpp"
 #include "daemon.hpp"
@@ -28,8 +28,10 @@ int main(int argc, char** argv) {
     std::string config_path, instance, log_level;
     uint32_t ring_slots = 0;
     bool check_only = false;
-    app.add_option("--config", config_path, "TOML configuration (default /etc/fovea/fovead.toml if present)");
-    app.add_option("--instance", instance, "Instance name: ring /fovea.<name>.gaze and <name>.sock");
+    app.add_option("--config", config_path,
+                   "TOML configuration (default /etc/fovea/fovead.toml if present)");
+    app.add_option("--instance", instance,
+                   "Instance name: ring /fovea.<name>.gaze and <name>.sock");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
     app.add_option("--ring-slots", ring_slots, "Slots in the gaze ring (power of two)")
@@ -37,9 +39,7 @@ int main(int argc, char** argv) {
     app.add_flag("--check-config", check_only, "Validate the configuration and exit");
     try {
         app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) { return app.exit(e); } catch (const CLI::ParseError& e) {
         return fail(std::string(e.what()) + " (see fovead --help)");
     }
 
@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     if (const char* env = std::getenv("FOVEA_LOG_LEVEL"); env && log_level.empty())
         cfg->log_level = env;
     if (check_only) {
-        std::printf("%s: OK (%zu device(s))\n", config_path.empty() ? "defaults" : config_path.c_str(),
-                    cfg->devices.size());
+        std::printf("%s: OK (%zu device(s))\n",
+                    config_path.empty() ? "defaults" : config_path.c_str(), cfg->devices.size());
         return 0;
     }
 

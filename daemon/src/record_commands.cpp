@@ -71,8 +71,8 @@ record::RecordingInfo recording_info(const Daemon& d) {
 }
 
 // The SDK's gaze-age hops (fovea_render_hop in fovea/client.h) beyond record::Hop's pipeline.
-constexpr std::array<const char*, 3> kGazeAgeHops = {"capture_to_frame_begin",
-                                                     "publish_to_frame_begin", "capture_to_present"};
+constexpr std::array<const char*, 3> kGazeAgeHops = {
+    "capture_to_frame_begin", "publish_to_frame_begin", "capture_to_present"};
 
 // What one SDK client last reported with latency.report (cumulative since it started).
 struct ClientReport {
@@ -89,7 +89,8 @@ struct ClientReport {
         r.hops = std::move(s).value();
         for (std::size_t i = 0; i < kGazeAgeHops.size(); ++i) {
             if (!req["hops"].contains(kGazeAgeHops[i])) continue;
-            if (auto h = record::histogram_from_json(req["hops"][kGazeAgeHops[i]], r.gaze_age[i]); !h)
+            if (auto h = record::histogram_from_json(req["hops"][kGazeAgeHops[i]], r.gaze_age[i]);
+                !h)
                 throw std::runtime_error(std::string(kGazeAgeHops[i]) + ": " + h.error().message);
         }
         try {
@@ -124,11 +125,14 @@ struct RecordingService {
     explicit RecordingService(Daemon& d) : daemon(d) {}
 
     json start(const json& req) {
-        if (recorder) throw std::runtime_error("already recording to " + recorder->path() + " (record.stop first)");
+        if (recorder)
+            throw std::runtime_error("already recording to " + recorder->path() +
+                                     " (record.stop first)");
         const std::string path = req.value("path", std::string());
         if (path.empty() || path.front() != '/') {
-            throw std::runtime_error("record.start needs an absolute \"path\" (the daemon's working "
-                                     "directory is not yours)");
+            throw std::runtime_error(
+                "record.start needs an absolute \"path\" (the daemon's working "
+                "directory is not yours)");
         }
         record::RecorderOptions o;
         o.path = path;
@@ -144,7 +148,9 @@ struct RecordingService {
         // samples the chain has already processed: replay needs them to rebuild its state
         for (const auto& [raw, predict] : preroll) recorder->push_raw(raw, predict, true);
         log()->info("recording to {}", path);
-        return {{"recording", true}, {"path", path}, {"preroll_samples", preroll.size()},
+        return {{"recording", true},
+                {"path", path},
+                {"preroll_samples", preroll.size()},
                 {"preroll_from_start", raw_seen <= kPrerollSamples}};
     }
 
@@ -164,9 +170,11 @@ struct RecordingService {
         if (clients.size() >= kMaxClients && !clients.count(peer.pid)) {
             // forget clients that have exited before refusing anyone
             for (auto it = clients.begin(); it != clients.end();) {
-                it = ::kill(it->first, 0) != 0 && errno == ESRCH ? clients.erase(it) : std::next(it);
+                it =
+                    ::kill(it->first, 0) != 0 && errno == ESRCH ? clients.erase(it) : std::next(it);
             }
-            if (clients.size() >= kMaxClients) throw std::runtime_error("too many reporting clients");
+            if (clients.size() >= kMaxClients)
+                throw std::runtime_error("too many reporting clients");
         }
         clients[peer.pid] = std::move(r);
         return {{"accepted", true}};
@@ -193,7 +201,8 @@ struct RecordingService {
             frames["stale"] = frames["stale"].get<uint64_t>() + c.stale_frames;
             frames["without_gaze"] = frames["without_gaze"].get<uint64_t>() + c.frames_without_gaze;
             if (c.stale_threshold_ns > 0) {
-                thr_min = thr_min == 0 ? c.stale_threshold_ns : std::min(thr_min, c.stale_threshold_ns);
+                thr_min =
+                    thr_min == 0 ? c.stale_threshold_ns : std::min(thr_min, c.stale_threshold_ns);
                 thr_max = std::max(thr_max, c.stale_threshold_ns);
             }
         }
@@ -222,18 +231,24 @@ void attach_recording(Daemon& daemon) {
         if (svc->recorder) svc->recorder->push_gaze(s, r.t_publish_ns, r.index);
     });
     auto& c = daemon.control();
-    c.add_command("record.start", [svc](const json& req, const PeerCredentials&) { return svc->start(req); },
-                  true, "start an XDF recording: {\"path\": \"/abs/file.xdf\"}");
-    c.add_command("record.stop", [svc](const json&, const PeerCredentials&) { return svc->stop(); },
-                  true, "stop the XDF recording");
-    c.add_command("latency.report", [svc](const json& req, const PeerCredentials& peer) {
-        return svc->report(req, peer);
-    }, false, "an SDK client's render-side latency histograms: {\"hops\": {...}}");
-    c.add_command("latency.reset", [svc](const json&, const PeerCredentials&) {
-        svc->device_hops.reset();
-        svc->clients.clear();
-        return json{{"reset", true}};
-    }, true, "zero the latency histograms");
+    c.add_command(
+        "record.start", [svc](const json& req, const PeerCredentials&) { return svc->start(req); },
+        true, "start an XDF recording: {\"path\": \"/abs/file.xdf\"}");
+    c.add_command(
+        "record.stop", [svc](const json&, const PeerCredentials&) { return svc->stop(); }, true,
+        "stop the XDF recording");
+    c.add_command(
+        "latency.report",
+        [svc](const json& req, const PeerCredentials& peer) { return svc->report(req, peer); },
+        false, "an SDK client's render-side latency histograms: {\"hops\": {...}}");
+    c.add_command(
+        "latency.reset",
+        [svc](const json&, const PeerCredentials&) {
+            svc->device_hops.reset();
+            svc->clients.clear();
+            return json{{"reset", true}};
+        },
+        true, "zero the latency histograms");
     daemon.add_status_section("latency", [svc] { return svc->device_hops.to_json(false); });
     daemon.add_status_section("latency_clients", [svc] { return svc->status_clients(); });
     daemon.add_status_section("recording", [svc] { return svc->status_recording(); });

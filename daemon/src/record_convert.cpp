@@ -34,7 +34,8 @@ fovea_gaze_record to_ring_record(const gaze::GazeSample& s, bool simulated) {
     r.event = static_cast<uint32_t>(s.event);
     r.device_id = s.device_id;
     r.clock_uncertainty_us = f(s.clock_uncertainty_us);
-    r.flags = (s.calibrated ? FOVEA_FLAG_CALIBRATED : 0u) | (simulated ? FOVEA_FLAG_SIMULATED : 0u) |
+    r.flags = (s.calibrated ? FOVEA_FLAG_CALIBRATED : 0u) |
+              (simulated ? FOVEA_FLAG_SIMULATED : 0u) |
               (s.clock_converged ? FOVEA_FLAG_CLOCK_CONVERGED : 0u);
     const auto& sac = s.saccade;
     r.saccade_onset_ns = sac.onset_ns;

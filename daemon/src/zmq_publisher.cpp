@@ -1,18 +1,20 @@
 #include "zmq_publisher.hpp"
 
-#include <msgpack.h>
 #include <zmq.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <ctime>
+#include <string_view>
 
 #include <boost/asio/steady_timer.hpp>
 
 #include <spdlog/spdlog.h>
 
 #include "daemon.hpp"
+#include "fovea/msgpack_read.hpp"
 
 namespace fovea::daemon {
 namespace {
@@ -20,9 +22,7 @@ namespace {
 constexpr const char* kEventNames[] = {"unknown", "fixation", "saccade", "pso", "pursuit", "blink"};
 constexpr int kLingerMs = 200;  // flush queued samples on shutdown, but never hang the stop
 
-std::string zmq_error(const std::string& what) {
-    return what + ": " + zmq_strerror(zmq_errno());
-}
+std::string zmq_error(const std::string& what) { return what + ": " + zmq_strerror(zmq_errno()); }
 
 std::string last_endpoint(void* socket, const std::string& fallback) {
     char ep[256] = {};
@@ -34,7 +34,8 @@ std::string last_endpoint(void* socket, const std::string& fallback) {
 // keeps the REP socket out of the loop's readiness machinery.
 constexpr auto kRemotePoll = std::chrono::milliseconds(50);
 
-void poll_remote(std::weak_ptr<ZmqPublisher> weak, std::shared_ptr<boost::asio::steady_timer> timer) {
+void poll_remote(std::weak_ptr<ZmqPublisher> weak,
+                 std::shared_ptr<boost::asio::steady_timer> timer) {
     timer->expires_after(kRemotePoll);
     timer->async_wait([weak, timer](boost::system::error_code ec) {
         auto p = weak.lock();
@@ -46,102 +47,69 @@ void poll_remote(std::weak_ptr<ZmqPublisher> weak, std::shared_ptr<boost::asio::
 
 // --- encoding -------------------------------------------------------------------------------
 
-class Packer {
-public:
-    Packer() {
-        msgpack_sbuffer_init(&buf_);
-        msgpack_packer_init(&pk_, &buf_, msgpack_sbuffer_write);
-    }
-    ~Packer() { msgpack_sbuffer_destroy(&buf_); }
-    Packer(const Packer&) = delete;
-    Packer& operator=(const Packer&) = delete;
+// The wire datum: msgpack-cxx writes each struct as a map keyed by its member names, so the
+// keys and their count have one owner (the member list).
+using Pair = std::array<double, 2>;
 
-    void map(uint32_t n) { msgpack_pack_map(&pk_, n); }
-    void str(const std::string& s) {
-        msgpack_pack_str(&pk_, s.size());
-        msgpack_pack_str_body(&pk_, s.data(), s.size());
-    }
-    void key(const char* k) { str(k); }
-    void f64(double v) { msgpack_pack_double(&pk_, v); }
-    void i64(int64_t v) { msgpack_pack_int64(&pk_, v); }
-    void u64(uint64_t v) { msgpack_pack_uint64(&pk_, v); }
-    void boolean(bool b) { b ? msgpack_pack_true(&pk_) : msgpack_pack_false(&pk_); }
-    void pair(double a, double b) {
-        msgpack_pack_array(&pk_, 2);
-        f64(a);
-        f64(b);
-    }
-    std::string take() const { return std::string(buf_.data, buf_.size); }
+struct WireEye {
+    Pair norm_pos;  // Pupil's origin: bottom-left
+    Pair gaze_deg;
+    double pupil_mm;
+    bool valid;
+    MSGPACK_DEFINE_MAP(norm_pos, gaze_deg, pupil_mm, valid)
+};
 
-private:
-    msgpack_sbuffer buf_;
-    msgpack_packer pk_;
+struct WireSaccade {
+    int64_t onset_ns;
+    double amplitude_deg, peak_velocity_dps, direction_deg;
+    MSGPACK_DEFINE_MAP(onset_ns, amplitude_deg, peak_velocity_dps, direction_deg)
+};
+
+struct WireLanding {
+    Pair norm_pos, gaze_deg;
+    double uncertainty_deg;
+    MSGPACK_DEFINE_MAP(norm_pos, gaze_deg, uncertainty_deg)
+};
+
+// Pupil's gaze datum keys (topic, norm_pos, confidence, timestamp) and every Fovea field.
+struct WireGaze {
+    std::string topic;
+    Pair norm_pos;
+    double confidence, timestamp;
+    uint64_t index;
+    std::string event;
+    uint64_t flags, device_id;
+    int64_t t_capture_ns, t_receive_ns, t_processed_ns, t_publish_ns;
+    double clock_uncertainty_us;
+    WireEye left, right, combined;
+    WireSaccade saccade;
+    WireLanding landing;
+    MSGPACK_DEFINE_MAP(topic, norm_pos, confidence, timestamp, index, event, flags, device_id,
+                       t_capture_ns, t_receive_ns, t_processed_ns, t_publish_ns,
+                       clock_uncertainty_us, left, right, combined, saccade, landing)
 };
 
 // Pupil's normalized coordinates have their origin bottom-left; Fovea's top-left.
 double flip_y(double y) { return 1.0 - y; }
 
-void pack_eye(Packer& p, const fovea_eye& e) {
-    p.map(4);
-    p.key("norm_pos");
-    p.pair(e.norm_x, flip_y(e.norm_y));
-    p.key("gaze_deg");
-    p.pair(e.deg_x, e.deg_y);
-    p.key("pupil_mm");
-    p.f64(e.pupil_mm);
-    p.key("valid");
-    p.boolean(e.valid & FOVEA_VALID);
+WireEye wire_eye(const fovea_eye& e) {
+    return {
+        {e.norm_x, flip_y(e.norm_y)}, {e.deg_x, e.deg_y}, e.pupil_mm, (e.valid & FOVEA_VALID) != 0};
 }
 
 // --- decoding -------------------------------------------------------------------------------
 
-const msgpack_object* find(const msgpack_object& map, const char* key) {
-    if (map.type != MSGPACK_OBJECT_MAP) return nullptr;
-    const std::size_t n = std::strlen(key);
-    for (uint32_t i = 0; i < map.via.map.size; ++i) {
-        const msgpack_object& k = map.via.map.ptr[i].key;
-        if (k.type == MSGPACK_OBJECT_STR && k.via.str.size == n &&
-            std::memcmp(k.via.str.ptr, key, n) == 0)
-            return &map.via.map.ptr[i].val;
-    }
-    return nullptr;
-}
+using msgpack_read::find;
+using msgpack_read::integer;
+using msgpack_read::number;
+using msgpack_read::pair;
 
-std::optional<double> number(const msgpack_object* o) {
-    if (!o) return std::nullopt;
-    switch (o->type) {
-        case MSGPACK_OBJECT_FLOAT32:
-        case MSGPACK_OBJECT_FLOAT64: return o->via.f64;
-        case MSGPACK_OBJECT_POSITIVE_INTEGER: return static_cast<double>(o->via.u64);
-        case MSGPACK_OBJECT_NEGATIVE_INTEGER: return static_cast<double>(o->via.i64);
-        default: return std::nullopt;
-    }
-}
-
-// Integers are read exactly (doubles would round nanosecond times).
-std::optional<int64_t> integer(const msgpack_object* o) {
-    if (!o) return std::nullopt;
-    if (o->type == MSGPACK_OBJECT_POSITIVE_INTEGER) return static_cast<int64_t>(o->via.u64);
-    if (o->type == MSGPACK_OBJECT_NEGATIVE_INTEGER) return o->via.i64;
-    return std::nullopt;
-}
-
-bool pair(const msgpack_object* o, double out[2]) {
-    if (!o || o->type != MSGPACK_OBJECT_ARRAY || o->via.array.size != 2) return false;
-    for (int i = 0; i < 2; ++i) {
-        auto v = number(&o->via.array.ptr[i]);
-        if (!v) return false;
-        out[i] = *v;
-    }
-    return true;
-}
-
-bool eye(const msgpack_object* o, fovea_eye& e) {
+bool eye(const msgpack::object* o, fovea_eye& e) {
     double norm[2], deg[2];
     const auto pupil = number(find(*o, "pupil_mm"));
-    const msgpack_object* valid = find(*o, "valid");
+    const msgpack::object* valid = find(*o, "valid");
     if (!pair(find(*o, "norm_pos"), norm) || !pair(find(*o, "gaze_deg"), deg) || !pupil || !valid ||
-        valid->type != MSGPACK_OBJECT_BOOLEAN)
+        valid->type != msgpack::type::BOOLEAN)
         return false;
     e.norm_x = static_cast<float>(norm[0]);
     e.norm_y = static_cast<float>(flip_y(norm[1]));
@@ -152,29 +120,32 @@ bool eye(const msgpack_object* o, fovea_eye& e) {
     return true;
 }
 
-Result<void> fovea_fields(const msgpack_object& m, fovea_gaze_record& r) {
+Result<void> fovea_fields(const msgpack::object& m, fovea_gaze_record& r) {
     auto need_int = [&](const char* k, auto& out) -> bool {
         auto v = integer(find(m, k));
         if (v) out = static_cast<std::remove_reference_t<decltype(out)>>(*v);
         return v.has_value();
     };
     if (!need_int("index", r.index) || !need_int("t_capture_ns", r.t_capture_ns) ||
-        !need_int("t_receive_ns", r.t_receive_ns) || !need_int("t_processed_ns", r.t_processed_ns) ||
+        !need_int("t_receive_ns", r.t_receive_ns) ||
+        !need_int("t_processed_ns", r.t_processed_ns) ||
         !need_int("t_publish_ns", r.t_publish_ns) || !need_int("flags", r.flags) ||
         !need_int("device_id", r.device_id))
         return make_error("a Fovea integer field is missing or not an integer");
-    const msgpack_object* ev = find(m, "event");
-    if (!ev || ev->type != MSGPACK_OBJECT_STR) return make_error("event: not a string");
-    const std::string event(ev->via.str.ptr, ev->via.str.size);
+    const msgpack::object* ev = find(m, "event");
+    if (!ev || ev->type != msgpack::type::STR) return make_error("event: not a string");
+    const std::string_view event(ev->via.str.ptr, ev->via.str.size);
     r.event = FOVEA_EVENT_UNKNOWN;
     for (uint32_t i = 0; i < std::size(kEventNames); ++i)
         if (event == kEventNames[i]) r.event = i;
-    if (auto u = number(find(m, "clock_uncertainty_us"))) r.clock_uncertainty_us = static_cast<float>(*u);
-    for (auto [key, e] : {std::pair{"left", &r.left}, {"right", &r.right}, {"combined", &r.combined}}) {
-        const msgpack_object* o = find(m, key);
+    if (auto u = number(find(m, "clock_uncertainty_us")))
+        r.clock_uncertainty_us = static_cast<float>(*u);
+    for (auto [key, e] :
+         {std::pair{"left", &r.left}, {"right", &r.right}, {"combined", &r.combined}}) {
+        const msgpack::object* o = find(m, key);
         if (!o || !eye(o, *e)) return make_error(std::string(key) + ": malformed eye");
     }
-    if (const msgpack_object* s = find(m, "saccade")) {
+    if (const msgpack::object* s = find(m, "saccade")) {
         auto onset = integer(find(*s, "onset_ns"));
         auto amp = number(find(*s, "amplitude_deg"));
         auto peak = number(find(*s, "peak_velocity_dps"));
@@ -185,7 +156,7 @@ Result<void> fovea_fields(const msgpack_object& m, fovea_gaze_record& r) {
         r.saccade_peak_velocity_dps = static_cast<float>(*peak);
         r.saccade_direction_deg = static_cast<float>(*dir);
     }
-    if (const msgpack_object* l = find(m, "landing")) {
+    if (const msgpack::object* l = find(m, "landing")) {
         double norm[2], deg[2];
         auto unc = number(find(*l, "uncertainty_deg"));
         if (!pair(find(*l, "norm_pos"), norm) || !pair(find(*l, "gaze_deg"), deg) || !unc)
@@ -209,7 +180,8 @@ Result<ZmqConfig> parse_zmq_config(const toml::table& t, const std::string& orig
     if (const toml::node* n = t.get("publish")) {
         auto v = n->value<std::string>();
         if (!v || v->find("://") == std::string::npos)
-            return make_error(origin + ": zmq.publish: must be a ZeroMQ endpoint string such as "
+            return make_error(origin +
+                              ": zmq.publish: must be a ZeroMQ endpoint string such as "
                               "\"tcp://127.0.0.1:50020\"");
         c.publish = *v;
     }
@@ -222,7 +194,8 @@ Result<ZmqConfig> parse_zmq_config(const toml::table& t, const std::string& orig
     if (const toml::node* n = t.get("remote")) {
         auto v = n->value<std::string>();
         if (!v || v->find("://") == std::string::npos)
-            return make_error(origin + ": zmq.remote: must be a ZeroMQ endpoint string such as "
+            return make_error(origin +
+                              ": zmq.remote: must be a ZeroMQ endpoint string such as "
                               "\"tcp://127.0.0.1:50021\"");
         c.remote = *v;
     }
@@ -246,80 +219,44 @@ ZmqMessage encode_pupil_gaze(const fovea_gaze_record& r) {
     }
     const bool tracked = main->valid & FOVEA_VALID;
 
-    Packer p;
-    p.map(18);
-    p.key("topic");
-    p.str(m.topic);
-    p.key("norm_pos");
-    p.pair(main->norm_x, flip_y(main->norm_y));
-    p.key("confidence");
-    p.f64(tracked ? 1.0 : 0.0);
-    p.key("timestamp");
-    p.f64(static_cast<double>(r.t_capture_ns) / 1e9);
-    p.key("index");
-    p.u64(r.index);
-    p.key("event");
-    p.str(r.event < std::size(kEventNames) ? kEventNames[r.event] : "unknown");
-    p.key("flags");
-    p.u64(r.flags);
-    p.key("device_id");
-    p.u64(r.device_id);
-    p.key("t_capture_ns");
-    p.i64(r.t_capture_ns);
-    p.key("t_receive_ns");
-    p.i64(r.t_receive_ns);
-    p.key("t_processed_ns");
-    p.i64(r.t_processed_ns);
-    p.key("t_publish_ns");
-    p.i64(r.t_publish_ns);
-    p.key("clock_uncertainty_us");
-    p.f64(r.clock_uncertainty_us);
-    p.key("left");
-    pack_eye(p, r.left);
-    p.key("right");
-    pack_eye(p, r.right);
-    p.key("combined");
-    pack_eye(p, r.combined);
-    p.key("saccade");
-    p.map(4);
-    p.key("onset_ns");
-    p.i64(r.saccade_onset_ns);
-    p.key("amplitude_deg");
-    p.f64(r.saccade_amplitude_deg);
-    p.key("peak_velocity_dps");
-    p.f64(r.saccade_peak_velocity_dps);
-    p.key("direction_deg");
-    p.f64(r.saccade_direction_deg);
-    p.key("landing");
-    p.map(3);
-    p.key("norm_pos");
-    p.pair(r.landing_norm_x, flip_y(r.landing_norm_y));
-    p.key("gaze_deg");
-    p.pair(r.landing_deg_x, r.landing_deg_y);
-    p.key("uncertainty_deg");
-    p.f64(r.landing_uncertainty_deg);
-    m.payload = p.take();
+    const WireGaze w{m.topic,
+                     {main->norm_x, flip_y(main->norm_y)},
+                     tracked ? 1.0 : 0.0,
+                     static_cast<double>(r.t_capture_ns) / 1e9,
+                     r.index,
+                     r.event < std::size(kEventNames) ? kEventNames[r.event] : "unknown",
+                     r.flags,
+                     r.device_id,
+                     r.t_capture_ns,
+                     r.t_receive_ns,
+                     r.t_processed_ns,
+                     r.t_publish_ns,
+                     r.clock_uncertainty_us,
+                     wire_eye(r.left),
+                     wire_eye(r.right),
+                     wire_eye(r.combined),
+                     {r.saccade_onset_ns, r.saccade_amplitude_deg, r.saccade_peak_velocity_dps,
+                      r.saccade_direction_deg},
+                     {{r.landing_norm_x, flip_y(r.landing_norm_y)},
+                      {r.landing_deg_x, r.landing_deg_y},
+                      r.landing_uncertainty_deg}};
+    msgpack::sbuffer buf;
+    msgpack::pack(buf, w);
+    m.payload.assign(buf.data(), buf.size());
     return m;
 }
 
 Result<ZmqGaze> decode_pupil_gaze(const std::string& topic, const std::string& payload) {
-    msgpack_unpacked u;
-    msgpack_unpacked_init(&u);
-    std::size_t off = 0;
-    const auto rc = msgpack_unpack_next(&u, payload.data(), payload.size(), &off);
-    struct Guard {
-        msgpack_unpacked* u;
-        ~Guard() { msgpack_unpacked_destroy(u); }
-    } guard{&u};
-    if (rc != MSGPACK_UNPACK_SUCCESS || off != payload.size())
-        return make_error("payload is not one msgpack object");
-    const msgpack_object& m = u.data;
-    if (m.type != MSGPACK_OBJECT_MAP) return make_error("payload is not a msgpack map");
+    msgpack::object_handle oh;
+    if (auto r = msgpack_read::unpack_one(payload, oh); !r)
+        return make_error("payload is not one msgpack object: " + r.error().message);
+    const msgpack::object& m = oh.get();
+    if (m.type != msgpack::type::MAP) return make_error("payload is not a msgpack map");
     ZmqGaze g;
     g.topic = topic;
-    const msgpack_object* t = find(m, "topic");
-    if (!t || t->type != MSGPACK_OBJECT_STR ||
-        std::string(t->via.str.ptr, t->via.str.size) != topic)
+    const msgpack::object* t = find(m, "topic");
+    if (!t || t->type != msgpack::type::STR ||
+        std::string_view(t->via.str.ptr, t->via.str.size) != topic)
         return make_error("topic field missing or different from the topic frame");
     auto conf = number(find(m, "confidence"));
     auto ts = number(find(m, "timestamp"));
@@ -435,7 +372,7 @@ Result<void> attach_zmq_publisher(Daemon& daemon) {
 // --- subscriber -----------------------------------------------------------------------------
 
 Result<std::unique_ptr<ZmqGazeSubscriber>> ZmqGazeSubscriber::connect(const std::string& endpoint,
-                                                                     const std::string& prefix) {
+                                                                      const std::string& prefix) {
     std::unique_ptr<ZmqGazeSubscriber> s(new ZmqGazeSubscriber());
     s->context_ = zmq_ctx_new();
     if (!s->context_) return make_error(zmq_error("zmq: cannot create a context"));
@@ -476,7 +413,8 @@ Result<std::optional<ZmqGaze>> ZmqGazeSubscriber::receive(int timeout_ms) {
                 return make_error(zmq_error("zmq: receive"));
             }
             if (count < 2)
-                frames[count].assign(static_cast<const char*>(zmq_msg_data(&msg)), zmq_msg_size(&msg));
+                frames[count].assign(static_cast<const char*>(zmq_msg_data(&msg)),
+                                     zmq_msg_size(&msg));
             more = zmq_msg_more(&msg);
             zmq_msg_close(&msg);
         }

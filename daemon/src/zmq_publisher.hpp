@@ -20,8 +20,8 @@
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
+#include <nlohmann/json.hpp>
 
 #include "fovea/result.hpp"
 #include "fovea/ring.h"
@@ -31,9 +31,9 @@ namespace fovea::daemon {
 class Daemon;
 
 struct ZmqConfig {
-    std::string publish;      // bind endpoint; "" disables the publisher
-    int send_hwm = 100'000;   // ZMQ_SNDHWM: ~100 s of 1 kHz gaze per slow subscriber
-    std::string remote;       // Pupil Remote REP endpoint; "" = none
+    std::string publish;     // bind endpoint; "" disables the publisher
+    int send_hwm = 100'000;  // ZMQ_SNDHWM: ~100 s of 1 kHz gaze per slow subscriber
+    std::string remote;      // Pupil Remote REP endpoint; "" = none
 };
 
 // Validate the [zmq] table; errors name the key ("zmq.publish: ...").

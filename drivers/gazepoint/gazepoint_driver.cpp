@@ -15,12 +15,12 @@
 #include <mutex>
 #include <optional>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
 
 namespace fovea::drivers::gazepoint {
 namespace {
@@ -140,20 +140,19 @@ private:
     }
 
     void read() {
-        socket_->async_read_some(
-            boost::asio::buffer(buffer_),
-            [this, token = std::weak_ptr<int>(alive_), gen = generation_](
-                boost::system::error_code ec, std::size_t n) {
-                if (token.expired() || gen != generation_ || !socket_) return;
-                if (ec) {
-                    logger()->warn("{}: connection lost ({}); reconnecting", address(),
-                                   ec.message());
-                    fail(address() + ": " + ec.message());
-                    return;
-                }
-                on_bytes(n);
-                if (!token.expired() && gen == generation_ && socket_) read();
-            });
+        socket_->async_read_some(boost::asio::buffer(buffer_),
+                                 [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                                     boost::system::error_code ec, std::size_t n) {
+                                     if (token.expired() || gen != generation_ || !socket_) return;
+                                     if (ec) {
+                                         logger()->warn("{}: connection lost ({}); reconnecting",
+                                                        address(), ec.message());
+                                         fail(address() + ": " + ec.message());
+                                         return;
+                                     }
+                                     on_bytes(n);
+                                     if (!token.expired() && gen == generation_ && socket_) read();
+                                 });
     }
 
     void on_bytes(std::size_t n) {
@@ -310,15 +309,18 @@ Result<GazepointConfig> parse_config(const toml::table& t) {
     check(read_key(t, "reconnect_max_ms", rmax));
     check(read_key(t, "tick_hz", c.tick_hz));
     if (!r.ok()) return r.error();
-    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10)) return make_error("gazepoint: tick_hz must be 1..1e10");
+    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10))
+        return make_error("gazepoint: tick_hz must be 1..1e10");
     // host:port, [v6]:port, or a bare host (default port).
     std::string host = address, port = std::to_string(kDefaultPort);
     if (!address.empty() && address.front() == '[') {
         const auto close = address.find(']');
-        if (close == std::string::npos) return make_error("gazepoint: bad address '" + address + "'");
+        if (close == std::string::npos)
+            return make_error("gazepoint: bad address '" + address + "'");
         host = address.substr(1, close - 1);
         if (close + 1 < address.size()) {
-            if (address[close + 1] != ':') return make_error("gazepoint: bad address '" + address + "'");
+            if (address[close + 1] != ':')
+                return make_error("gazepoint: bad address '" + address + "'");
             port = address.substr(close + 2);
         }
     } else if (const auto colon = address.rfind(':'); colon != std::string::npos) {
@@ -326,12 +328,14 @@ Result<GazepointConfig> parse_config(const toml::table& t) {
         port = address.substr(colon + 1);
     }
     const long p = std::strtol(port.c_str(), nullptr, 10);
-    if (host.empty() || p <= 0 || p > 65535 || port.find_first_not_of("0123456789") != std::string::npos)
+    if (host.empty() || p <= 0 || p > 65535 ||
+        port.find_first_not_of("0123456789") != std::string::npos)
         return make_error("gazepoint: address must be host:port (e.g. \"127.0.0.1:4242\"), got '" +
                           address + "'");
     if (gaze != "eyes" && gaze != "best")
         return make_error("gazepoint: gaze must be \"eyes\" or \"best\", got '" + gaze + "'");
-    if (c.rate_hz < 0 || c.rate_hz > 10000) return make_error("gazepoint: rate_hz must be 0..10000");
+    if (c.rate_hz < 0 || c.rate_hz > 10000)
+        return make_error("gazepoint: rate_hz must be 0..10000");
     if (rmin < 1 || rmax < rmin || rmax > 600'000)
         return make_error("gazepoint: need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
     c.host = host;

@@ -136,7 +136,8 @@ std::optional<gaze::RawSample> decode_record(const Element& rec, const ServerClo
     if (cnt) *cnt = get_u64(rec, "CNT", &bad);
     gaze::RawSample s;
     if (auto tick = get_u64(rec, "TIME_TICK", &bad)) {
-        if (clock.tick_hz <= 0) return fail("TIME_TICK before TIME_TICK_FREQUENCY was acknowledged");
+        if (clock.tick_hz <= 0)
+            return fail("TIME_TICK before TIME_TICK_FREQUENCY was acknowledged");
         s.device_ticks = *tick;
     } else if (auto t = get_double(rec, "TIME")) {
         if (!std::isfinite(*t) || *t < 0 || *t > 1e9) return fail("absurd TIME");
@@ -184,10 +185,10 @@ std::optional<gaze::RawSample> decode_record(const Element& rec, const ServerClo
 
 std::vector<Element> startup_commands() {
     std::vector<Element> cmds;
-    for (const char* id :
-         {"ENABLE_SEND_COUNTER", "ENABLE_SEND_TIME", "ENABLE_SEND_TIME_TICK", "ENABLE_SEND_POG_BEST",
-          "ENABLE_SEND_POG_LEFT", "ENABLE_SEND_POG_RIGHT", "ENABLE_SEND_PUPIL_LEFT",
-          "ENABLE_SEND_PUPIL_RIGHT", "ENABLE_SEND_EYE_LEFT", "ENABLE_SEND_EYE_RIGHT"}) {
+    for (const char* id : {"ENABLE_SEND_COUNTER", "ENABLE_SEND_TIME", "ENABLE_SEND_TIME_TICK",
+                           "ENABLE_SEND_POG_BEST", "ENABLE_SEND_POG_LEFT", "ENABLE_SEND_POG_RIGHT",
+                           "ENABLE_SEND_PUPIL_LEFT", "ENABLE_SEND_PUPIL_RIGHT",
+                           "ENABLE_SEND_EYE_LEFT", "ENABLE_SEND_EYE_RIGHT"}) {
         cmds.push_back({"SET", {{"ID", id}, {"STATE", "1"}}});
     }
     cmds.push_back({"GET", {{"ID", "TIME_TICK_FREQUENCY"}}});

@@ -24,10 +24,10 @@ namespace {
 
 constexpr std::size_t kMaxQueuedBytes = 4 << 20;  // a client this far behind is cut off
 const std::set<std::string> kKnownIds = {
-    "ENABLE_SEND_DATA",       "ENABLE_SEND_COUNTER",    "ENABLE_SEND_TIME",
-    "ENABLE_SEND_TIME_TICK",  "ENABLE_SEND_POG_BEST",   "ENABLE_SEND_POG_LEFT",
-    "ENABLE_SEND_POG_RIGHT",  "ENABLE_SEND_PUPIL_LEFT", "ENABLE_SEND_PUPIL_RIGHT",
-    "ENABLE_SEND_EYE_LEFT",   "ENABLE_SEND_EYE_RIGHT",  "ENABLE_SEND_POG_FIX",
+    "ENABLE_SEND_DATA",      "ENABLE_SEND_COUNTER",    "ENABLE_SEND_TIME",
+    "ENABLE_SEND_TIME_TICK", "ENABLE_SEND_POG_BEST",   "ENABLE_SEND_POG_LEFT",
+    "ENABLE_SEND_POG_RIGHT", "ENABLE_SEND_PUPIL_LEFT", "ENABLE_SEND_PUPIL_RIGHT",
+    "ENABLE_SEND_EYE_LEFT",  "ENABLE_SEND_EYE_RIGHT",  "ENABLE_SEND_POG_FIX",
     "ENABLE_SEND_CURSOR"};
 
 struct Client {
@@ -74,33 +74,33 @@ struct SimServer::Impl : std::enable_shared_from_this<Impl> {
     }
 
     void accept() {
-        acceptor->async_accept([self = shared_from_this()](boost::system::error_code ec,
-                                                            tcp::socket s) {
-            if (!self->running) return;
-            if (!ec) {
-                s.set_option(tcp::no_delay(true));
-                auto c = std::make_shared<Client>(std::move(s));
-                self->clients.push_back(c);
-                ++self->stats.clients;
-                self->read(c);
-            }
-            self->accept();
-        });
+        acceptor->async_accept(
+            [self = shared_from_this()](boost::system::error_code ec, tcp::socket s) {
+                if (!self->running) return;
+                if (!ec) {
+                    s.set_option(tcp::no_delay(true));
+                    auto c = std::make_shared<Client>(std::move(s));
+                    self->clients.push_back(c);
+                    ++self->stats.clients;
+                    self->read(c);
+                }
+                self->accept();
+            });
     }
 
     void read(const std::shared_ptr<Client>& c) {
-        c->socket.async_read_some(boost::asio::buffer(c->buf), [self = shared_from_this(), c](
-                                                                   boost::system::error_code ec,
-                                                                   std::size_t n) {
-            if (ec || c->closed) {
-                self->drop(c);
-                return;
-            }
-            c->stream.feed(std::string_view(c->buf.data(), n),
-                           [&](const Element& e) { self->on_command(*c, e); });
-            self->flush(c);
-            self->read(c);
-        });
+        c->socket.async_read_some(
+            boost::asio::buffer(c->buf),
+            [self = shared_from_this(), c](boost::system::error_code ec, std::size_t n) {
+                if (ec || c->closed) {
+                    self->drop(c);
+                    return;
+                }
+                c->stream.feed(std::string_view(c->buf.data(), n),
+                               [&](const Element& e) { self->on_command(*c, e); });
+                self->flush(c);
+                self->read(c);
+            });
     }
 
     void on_command(Client& c, const Element& e) {
@@ -148,19 +148,20 @@ struct SimServer::Impl : std::enable_shared_from_this<Impl> {
             c->queue.pop_front();
         }
         c->queued_bytes = 0;
-        boost::asio::async_write(
-            c->socket, boost::asio::buffer(*batch),
-            [self = shared_from_this(), c, batch, ends](boost::system::error_code ec,
-                                                       std::size_t written) {
-                c->writing = false;
-                for (const auto& [end, n] : *ends)
-                    if (end <= written) self->stats.records += n;  // handed to the kernel: sent
-                if (ec) {
-                    self->drop(c);
-                    return;
-                }
-                self->flush(c);
-            });
+        boost::asio::async_write(c->socket, boost::asio::buffer(*batch),
+                                 [self = shared_from_this(), c, batch, ends](
+                                     boost::system::error_code ec, std::size_t written) {
+                                     c->writing = false;
+                                     for (const auto& [end, n] : *ends)
+                                         if (end <= written)
+                                             self->stats.records +=
+                                                 n;  // handed to the kernel: sent
+                                     if (ec) {
+                                         self->drop(c);
+                                         return;
+                                     }
+                                     self->flush(c);
+                                 });
     }
 
     void drop(const std::shared_ptr<Client>& c) {
@@ -226,15 +227,18 @@ struct SimServer::Impl : std::enable_shared_from_this<Impl> {
             return e.valid ? (x ? e.x : e.y) : 0.0;
         };
         if (on("ENABLE_SEND_COUNTER")) add(" CNT=\"%llu\"", static_cast<unsigned long long>(cnt));
-        if (on("ENABLE_SEND_TIME")) add(" TIME=\"%.5f\"", static_cast<double>(index) / opt.sim.rate_hz);
+        if (on("ENABLE_SEND_TIME"))
+            add(" TIME=\"%.5f\"", static_cast<double>(index) / opt.sim.rate_hz);
         if (on("ENABLE_SEND_TIME_TICK")) {
             add(" TIME_TICK=\"%llu\"", static_cast<unsigned long long>(f.raw.device_ticks));
         }
         if (on("ENABLE_SEND_POG_LEFT")) {
-            add(" LPOGX=\"%.5f\" LPOGY=\"%.5f\" LPOGV=\"%d\"", xy(L, true), xy(L, false), L.valid ? 1 : 0);
+            add(" LPOGX=\"%.5f\" LPOGY=\"%.5f\" LPOGV=\"%d\"", xy(L, true), xy(L, false),
+                L.valid ? 1 : 0);
         }
         if (on("ENABLE_SEND_POG_RIGHT")) {
-            add(" RPOGX=\"%.5f\" RPOGY=\"%.5f\" RPOGV=\"%d\"", xy(R, true), xy(R, false), R.valid ? 1 : 0);
+            add(" RPOGX=\"%.5f\" RPOGY=\"%.5f\" RPOGV=\"%d\"", xy(R, true), xy(R, false),
+                R.valid ? 1 : 0);
         }
         if (on("ENABLE_SEND_POG_BEST")) {
             const int n = (L.valid ? 1 : 0) + (R.valid ? 1 : 0);
@@ -252,11 +256,13 @@ struct SimServer::Impl : std::enable_shared_from_this<Impl> {
         }
         if (on("ENABLE_SEND_EYE_LEFT")) {
             add(" LEYEX=\"-0.03000\" LEYEY=\"0.00000\" LEYEZ=\"0.60000\" LPUPILD=\"%.6f\" "
-                "LPUPILV=\"%d\"", L.valid ? L.pupil_mm / 1000.0 : 0.0, L.valid ? 1 : 0);
+                "LPUPILV=\"%d\"",
+                L.valid ? L.pupil_mm / 1000.0 : 0.0, L.valid ? 1 : 0);
         }
         if (on("ENABLE_SEND_EYE_RIGHT")) {
             add(" REYEX=\"0.03000\" REYEY=\"0.00000\" REYEZ=\"0.60000\" RPUPILD=\"%.6f\" "
-                "RPUPILV=\"%d\"", R.valid ? R.pupil_mm / 1000.0 : 0.0, R.valid ? 1 : 0);
+                "RPUPILV=\"%d\"",
+                R.valid ? R.pupil_mm / 1000.0 : 0.0, R.valid ? 1 : 0);
         }
         r += " />\r\n";
         return r;

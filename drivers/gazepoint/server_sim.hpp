@@ -24,10 +24,10 @@ struct ServerOptions {
 class SimServer {
 public:
     struct Stats {
-        uint64_t clients = 0;   // connections accepted
-        uint64_t records = 0;   // REC elements written to sockets, summed over clients
-        uint64_t dropped = 0;   // records skipped on purpose
-        uint64_t garbage = 0;   // garbage bursts
+        uint64_t clients = 0;  // connections accepted
+        uint64_t records = 0;  // REC elements written to sockets, summed over clients
+        uint64_t dropped = 0;  // records skipped on purpose
+        uint64_t garbage = 0;  // garbage bursts
     };
 
     SimServer(boost::asio::io_context& io, const ServerOptions& options);

@@ -42,10 +42,10 @@ struct LocalState {
 
 int64_t sign_extend(uint32_t raw, int size) {
     switch (size) {
-    case 1: return static_cast<int8_t>(raw);
-    case 2: return static_cast<int16_t>(raw);
-    case 4: return static_cast<int32_t>(raw);
-    default: return 0;
+        case 1: return static_cast<int8_t>(raw);
+        case 2: return static_cast<int16_t>(raw);
+        case 4: return static_cast<int32_t>(raw);
+        default: return 0;
     }
 }
 
@@ -91,10 +91,10 @@ public:
 
             Result<void> r;
             switch (type) {
-            case 0: r = main_item(tag, data, size); break;
-            case 1: r = global_item(tag, data, size); break;
-            case 2: r = local_item(tag, data, size); break;
-            default: break;  // reserved item type: skip, as the spec asks
+                case 0: r = main_item(tag, data, size); break;
+                case 1: r = global_item(tag, data, size); break;
+                case 2: r = local_item(tag, data, size); break;
+                default: break;  // reserved item type: skip, as the spec asks
             }
             if (!r) return make_error(r.error().message + at(item_at));
         }
@@ -103,56 +103,63 @@ public:
         if (out_.numbered)
             for (const auto& f : out_.fields)
                 if (f.report_id == 0)
-                    return make_error("a field precedes the first Report ID in a numbered "
-                                      "descriptor");
+                    return make_error(
+                        "a field precedes the first Report ID in a numbered "
+                        "descriptor");
         return std::move(out_);
     }
 
 private:
     Result<void> global_item(int tag, uint32_t data, int size) {
         switch (tag) {
-        case 0: g_.usage_page = data & 0xFFFF; break;
-        case 1: g_.logical_min = sign_extend(data, size); break;
-        case 2: g_.logical_max_raw = data; g_.logical_max_size = size; break;
-        case 3: g_.physical_min = sign_extend(data, size); break;
-        case 4: g_.physical_max_raw = data; g_.physical_max_size = size; break;
-        case 5:
-            // The spec gives a 4-bit two's-complement nibble; some devices write a whole byte.
-            if ((data & ~0xFu) == 0)
-                g_.unit_exponent = static_cast<int8_t>(data >= 8 ? int(data) - 16 : int(data));
-            else
-                g_.unit_exponent = static_cast<int8_t>(sign_extend(data, size));
-            break;
-        case 6: g_.unit = data; break;
-        case 7:
-            if (data > kMaxReportSizeBits)
-                return make_error("Report Size " + std::to_string(data) + " exceeds " +
-                                  std::to_string(kMaxReportSizeBits));
-            g_.report_size = data;
-            break;
-        case 8:
-            if (data == 0 || data > 255)
-                return make_error("invalid Report ID " + std::to_string(data));
-            g_.report_id = static_cast<uint8_t>(data);
-            out_.numbered = true;
-            break;
-        case 9:
-            if (data > kMaxReportCount)
-                return make_error("Report Count " + std::to_string(data) + " exceeds " +
-                                  std::to_string(kMaxReportCount));
-            g_.report_count = data;
-            break;
-        case 10:
-            if (static_cast<int>(stack_.size()) >= kMaxGlobalStack)
-                return make_error("Push nested deeper than " + std::to_string(kMaxGlobalStack));
-            stack_.push_back(g_);
-            break;
-        case 11:
-            if (stack_.empty()) return make_error("Pop without Push");
-            g_ = stack_.back();
-            stack_.pop_back();
-            break;
-        default: break;  // reserved global tags
+            case 0: g_.usage_page = data & 0xFFFF; break;
+            case 1: g_.logical_min = sign_extend(data, size); break;
+            case 2:
+                g_.logical_max_raw = data;
+                g_.logical_max_size = size;
+                break;
+            case 3: g_.physical_min = sign_extend(data, size); break;
+            case 4:
+                g_.physical_max_raw = data;
+                g_.physical_max_size = size;
+                break;
+            case 5:
+                // The spec gives a 4-bit two's-complement nibble; some devices write a whole byte.
+                if ((data & ~0xFu) == 0)
+                    g_.unit_exponent = static_cast<int8_t>(data >= 8 ? int(data) - 16 : int(data));
+                else
+                    g_.unit_exponent = static_cast<int8_t>(sign_extend(data, size));
+                break;
+            case 6: g_.unit = data; break;
+            case 7:
+                if (data > kMaxReportSizeBits)
+                    return make_error("Report Size " + std::to_string(data) + " exceeds " +
+                                      std::to_string(kMaxReportSizeBits));
+                g_.report_size = data;
+                break;
+            case 8:
+                if (data == 0 || data > 255)
+                    return make_error("invalid Report ID " + std::to_string(data));
+                g_.report_id = static_cast<uint8_t>(data);
+                out_.numbered = true;
+                break;
+            case 9:
+                if (data > kMaxReportCount)
+                    return make_error("Report Count " + std::to_string(data) + " exceeds " +
+                                      std::to_string(kMaxReportCount));
+                g_.report_count = data;
+                break;
+            case 10:
+                if (static_cast<int>(stack_.size()) >= kMaxGlobalStack)
+                    return make_error("Push nested deeper than " + std::to_string(kMaxGlobalStack));
+                stack_.push_back(g_);
+                break;
+            case 11:
+                if (stack_.empty()) return make_error("Pop without Push");
+                g_ = stack_.back();
+                stack_.pop_back();
+                break;
+            default: break;  // reserved global tags
         }
         return {};
     }
@@ -160,24 +167,32 @@ private:
     Result<void> local_item(int tag, uint32_t data, int size) {
         const bool extended = size == 4;
         switch (tag) {
-        case 0:  // Usage
-            if (l_.delimiter_depth > 0 && l_.delimited_sets > 0) break;
-            l_.usages.push_back({data, data, extended});
-            if (l_.delimiter_depth > 0) ++l_.delimited_sets;
-            break;
-        case 1: l_.have_min = true; l_.min = data; l_.min_extended = extended; break;
-        case 2: l_.have_max = true; l_.max = data; l_.max_extended = extended; break;
-        case 10:  // Delimiter: 1 opens a set of alternative usages, 0 closes it
-            if (data == 1) {
-                if (l_.delimiter_depth > 0) return make_error("nested Delimiter");
-                l_.delimiter_depth = 1;
-                l_.delimited_sets = 0;
-            } else if (data == 0) {
-                if (l_.delimiter_depth == 0) return make_error("Delimiter close without open");
-                l_.delimiter_depth = 0;
-            }
-            break;
-        default: break;  // designators, strings: carry no data layout
+            case 0:  // Usage
+                if (l_.delimiter_depth > 0 && l_.delimited_sets > 0) break;
+                l_.usages.push_back({data, data, extended});
+                if (l_.delimiter_depth > 0) ++l_.delimited_sets;
+                break;
+            case 1:
+                l_.have_min = true;
+                l_.min = data;
+                l_.min_extended = extended;
+                break;
+            case 2:
+                l_.have_max = true;
+                l_.max = data;
+                l_.max_extended = extended;
+                break;
+            case 10:  // Delimiter: 1 opens a set of alternative usages, 0 closes it
+                if (data == 1) {
+                    if (l_.delimiter_depth > 0) return make_error("nested Delimiter");
+                    l_.delimiter_depth = 1;
+                    l_.delimited_sets = 0;
+                } else if (data == 0) {
+                    if (l_.delimiter_depth == 0) return make_error("Delimiter close without open");
+                    l_.delimiter_depth = 0;
+                }
+                break;
+            default: break;  // designators, strings: carry no data layout
         }
         if (l_.have_min && l_.have_max) {
             const uint32_t lo = resolve(l_.min, l_.min_extended);
@@ -191,8 +206,9 @@ private:
     }
 
     uint32_t resolve(uint32_t usage, bool extended) const {
-        return extended ? usage : make_usage(static_cast<uint16_t>(g_.usage_page),
-                                             static_cast<uint16_t>(usage));
+        return extended
+                   ? usage
+                   : make_usage(static_cast<uint16_t>(g_.usage_page), static_cast<uint16_t>(usage));
     }
 
     std::vector<UsageRange> resolved_usages() const {
@@ -206,27 +222,27 @@ private:
     Result<void> main_item(int tag, uint32_t data, int /*size*/) {
         Result<void> r;
         switch (tag) {
-        case 8: r = data_item(ReportType::kInput, data); break;
-        case 9: r = data_item(ReportType::kOutput, data); break;
-        case 11: r = data_item(ReportType::kFeature, data); break;
-        case 10: {
-            if (static_cast<int>(open_.size()) >= kMaxCollectionDepth)
-                return make_error("collections nested deeper than " +
-                                  std::to_string(kMaxCollectionDepth));
-            const auto usages = resolved_usages();
-            Collection c;
-            c.usage = usages.empty() ? 0 : usages.front().min;
-            c.type = static_cast<uint8_t>(data & 0xFF);
-            c.parent = open_.empty() ? -1 : open_.back();
-            out_.collections.push_back(c);
-            open_.push_back(static_cast<int>(out_.collections.size()) - 1);
-            break;
-        }
-        case 12:
-            if (open_.empty()) return make_error("End Collection without Collection");
-            open_.pop_back();
-            break;
-        default: break;  // reserved main tags
+            case 8: r = data_item(ReportType::kInput, data); break;
+            case 9: r = data_item(ReportType::kOutput, data); break;
+            case 11: r = data_item(ReportType::kFeature, data); break;
+            case 10: {
+                if (static_cast<int>(open_.size()) >= kMaxCollectionDepth)
+                    return make_error("collections nested deeper than " +
+                                      std::to_string(kMaxCollectionDepth));
+                const auto usages = resolved_usages();
+                Collection c;
+                c.usage = usages.empty() ? 0 : usages.front().min;
+                c.type = static_cast<uint8_t>(data & 0xFF);
+                c.parent = open_.empty() ? -1 : open_.back();
+                out_.collections.push_back(c);
+                open_.push_back(static_cast<int>(out_.collections.size()) - 1);
+                break;
+            }
+            case 12:
+                if (open_.empty()) return make_error("End Collection without Collection");
+                open_.pop_back();
+                break;
+            default: break;  // reserved main tags
         }
         l_.clear();
         return r;
@@ -267,7 +283,8 @@ private:
             out_.fields.push_back(std::move(proto));
             return {};
         }
-        // Variables: the i-th field takes the i-th usage; the last usage repeats (HID 1.11 §6.2.2.8).
+        // Variables: the i-th field takes the i-th usage; the last usage repeats (HID 1.11
+        // §6.2.2.8).
         std::size_t range = 0;
         uint32_t next = usages.empty() ? 0 : usages.front().min;
         uint32_t usage = 0;

@@ -38,14 +38,14 @@ struct UsageRange {
 
 struct Field {
     ReportType type = ReportType::kInput;
-    uint8_t report_id = 0;    // 0 when the descriptor uses no report IDs
-    uint32_t bit_offset = 0;  // from the first bit after the report ID byte
-    uint32_t bit_size = 0;    // Report Size
-    uint32_t count = 1;       // 1 for a variable; Report Count for an array
-    uint32_t flags = 0;       // kFlag* bits of the main item
-    uint32_t usage = 0;       // variables: extended usage (0 for padding / constants)
+    uint8_t report_id = 0;                 // 0 when the descriptor uses no report IDs
+    uint32_t bit_offset = 0;               // from the first bit after the report ID byte
+    uint32_t bit_size = 0;                 // Report Size
+    uint32_t count = 1;                    // 1 for a variable; Report Count for an array
+    uint32_t flags = 0;                    // kFlag* bits of the main item
+    uint32_t usage = 0;                    // variables: extended usage (0 for padding / constants)
     std::vector<UsageRange> array_usages;  // arrays: usages selectable by index, in order
-    int64_t logical_min = 0, logical_max = 0;  // max may exceed INT32_MAX when min >= 0
+    int64_t logical_min = 0, logical_max = 0;    // max may exceed INT32_MAX when min >= 0
     int64_t physical_min = 0, physical_max = 0;  // both 0: physical = logical
     uint32_t unit = 0;
     int8_t unit_exponent = 0;

@@ -60,8 +60,7 @@ Result<std::vector<TrackerDevice>> enumerate_trackers() {
 Result<std::vector<uint8_t>> read_report_descriptor(const std::string& hidraw_path) {
     const auto slash = hidraw_path.find_last_of('/');
     const std::string node = hidraw_path.substr(slash == std::string::npos ? 0 : slash + 1);
-    std::ifstream sys("/sys/class/hidraw/" + node + "/device/report_descriptor",
-                      std::ios::binary);
+    std::ifstream sys("/sys/class/hidraw/" + node + "/device/report_descriptor", std::ios::binary);
     if (sys) {
         std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(sys)),
                                    std::istreambuf_iterator<char>());
@@ -69,9 +68,9 @@ Result<std::vector<uint8_t>> read_report_descriptor(const std::string& hidraw_pa
     }
     const int fd = ::open(hidraw_path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0)
-        return make_error("cannot read the report descriptor of " + hidraw_path + ": " +
-                              std::strerror(errno),
-                          errno);
+        return make_error(
+            "cannot read the report descriptor of " + hidraw_path + ": " + std::strerror(errno),
+            errno);
     int size = 0;
     hidraw_report_descriptor desc{};
     int rc = ::ioctl(fd, HIDIOCGRDESCSIZE, &size);
@@ -81,7 +80,8 @@ Result<std::vector<uint8_t>> read_report_descriptor(const std::string& hidraw_pa
     }
     const int err = errno;
     ::close(fd);
-    if (rc < 0) return make_error("HIDIOCGRDESC on " + hidraw_path + ": " + std::strerror(err), err);
+    if (rc < 0)
+        return make_error("HIDIOCGRDESC on " + hidraw_path + ": " + std::strerror(err), err);
     return std::vector<uint8_t>(desc.value, desc.value + desc.size);
 }
 

@@ -13,9 +13,9 @@
 #include <thread>
 #include <vector>
 
-#include <boost/asio/post.hpp>
 #include <hidapi.h>
 #include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
 
 #include "hid/enumerate.hpp"
 #include "hid/session.hpp"
@@ -122,7 +122,8 @@ private:
         auto session = TrackerSession::create(*bytes, cfg_.screen_w_um, cfg_.screen_h_um);
         if (!session) return fail(path + ": " + session.error().message);
         hid_device* dev = hid_open_path(path.c_str());
-        if (dev == nullptr) return fail("cannot open " + path + " (permissions? see udev/README.md)");
+        if (dev == nullptr)
+            return fail("cannot open " + path + " (permissions? see udev/README.md)");
         std::vector<uint8_t> buf(4097);
         for (uint8_t id : session->layout().features.report_ids) {
             buf.assign(buf.size(), 0);

@@ -27,12 +27,12 @@ int TrackerSession::apply_feature(std::span<const uint8_t> report) {
 
 double TrackerSession::screen_width_um() const {
     return info_.calibrated_screen_width_um.value_or(0) > 0 ? *info_.calibrated_screen_width_um
-                                                             : fallback_w_um_;
+                                                            : fallback_w_um_;
 }
 
 double TrackerSession::screen_height_um() const {
     return info_.calibrated_screen_height_um.value_or(0) > 0 ? *info_.calibrated_screen_height_um
-                                                              : fallback_h_um_;
+                                                             : fallback_h_um_;
 }
 
 gaze::DeviceClock TrackerSession::clock() const {
@@ -96,7 +96,8 @@ HeadPose to_head_pose(const TrackingSample& s) {
     std::array<double, 3> origin{0, 0, 0};
     if (s.head_position_um) {
         origin = *s.head_position_um;
-        for (int i = 0; i < 3; ++i) p.position_m[i] = (*s.head_position_um)[static_cast<std::size_t>(i)] * 1e-6;
+        for (int i = 0; i < 3; ++i)
+            p.position_m[i] = (*s.head_position_um)[static_cast<std::size_t>(i)] * 1e-6;
         p.position_valid = std::isfinite(p.position_m[0]) && std::isfinite(p.position_m[1]);
         if (!std::isfinite(p.position_m[2])) p.position_m[2] = 0;
     }

@@ -29,7 +29,7 @@ bool only_nibble(uint32_t unit, int index, int exponent) {
 double length_scale_um(const Field& f) {
     if (f.unit == 0) return 1.0;
     if (only_nibble(f.unit, 1, 1)) {
-        if ((f.unit & 0xF) == kSystemSiLinear) return 1e4;        // centimetre
+        if ((f.unit & 0xF) == kSystemSiLinear) return 1e4;         // centimetre
         if ((f.unit & 0xF) == kSystemEnglishLinear) return 25400;  // inch
     }
     return 1.0;  // a unit we do not know: trust the spec's default
@@ -52,15 +52,16 @@ double timestamp_tick_hz(const Field& f) {
 }
 
 bool usable(const Field& f) {
-    return f.is_variable() && f.bit_size > 0 && f.bit_size <= 64 && usage_page(f.usage) == usage::kPage;
+    return f.is_variable() && f.bit_size > 0 && f.bit_size <= 64 &&
+           usage_page(f.usage) == usage::kPage;
 }
 
 int axis_of(uint16_t id) {
     switch (id) {
-    case usage::kPositionX: return 0;
-    case usage::kPositionY: return 1;
-    case usage::kPositionZ: return 2;
-    default: return -1;
+        case usage::kPositionX: return 0;
+        case usage::kPositionY: return 1;
+        case usage::kPositionZ: return 2;
+        default: return -1;
     }
 }
 
@@ -72,12 +73,12 @@ int position_channel(const ReportDescriptor& desc, const Field& f) {
         const uint32_t cu = desc.collections[static_cast<std::size_t>(c)].usage;
         if (usage_page(cu) != usage::kPage) continue;
         switch (usage_id(cu)) {
-        case usage::kGazePoint: return axis < 2 ? kGazeX + axis : -1;
-        case usage::kLeftEyePosition: return kLeftEyeX + axis;
-        case usage::kRightEyePosition: return kRightEyeX + axis;
-        case usage::kHeadPosition: return kHeadX + axis;
-        case usage::kHeadDirectionPoint: return kHeadDirX + axis;
-        default: break;
+            case usage::kGazePoint: return axis < 2 ? kGazeX + axis : -1;
+            case usage::kLeftEyePosition: return kLeftEyeX + axis;
+            case usage::kRightEyePosition: return kRightEyeX + axis;
+            case usage::kHeadPosition: return kHeadX + axis;
+            case usage::kHeadDirectionPoint: return kHeadDirX + axis;
+            default: break;
         }
     }
     return -1;
@@ -91,11 +92,11 @@ bool fits(const Field& f, std::span<const uint8_t> payload) {
 
 const char* to_string(ConfigurationStatus s) {
     switch (s) {
-    case ConfigurationStatus::kReady: return "ready";
-    case ConfigurationStatus::kConfiguring: return "configuring";
-    case ConfigurationStatus::kScreenSetupNeeded: return "screen setup needed";
-    case ConfigurationStatus::kUserCalibrationNeeded: return "user calibration needed";
-    default: return "unknown";
+        case ConfigurationStatus::kReady: return "ready";
+        case ConfigurationStatus::kConfiguring: return "configuring";
+        case ConfigurationStatus::kScreenSetupNeeded: return "screen setup needed";
+        case ConfigurationStatus::kUserCalibrationNeeded: return "user calibration needed";
+        default: return "unknown";
     }
 }
 
@@ -110,8 +111,9 @@ Result<TrackerLayout> locate_tracker(const ReportDescriptor& desc) {
         out.head_tracker |= c.usage == head_app;
     }
     if (!out.eye_tracker && !out.head_tracker)
-        return make_error("no Eye Tracker (0x12:0x01) or Head Tracker (0x12:0x02) application "
-                          "collection in the report descriptor");
+        return make_error(
+            "no Eye Tracker (0x12:0x01) or Head Tracker (0x12:0x02) application "
+            "collection in the report descriptor");
 
     auto layout_for = [&](uint8_t id, bool head) -> TrackingReportLayout& {
         for (auto& t : out.tracking)
@@ -157,15 +159,14 @@ Result<TrackerLayout> locate_tracker(const ReportDescriptor& desc) {
             t.channel[static_cast<std::size_t>(channel)] = index;
             t.scale[static_cast<std::size_t>(channel)] = scale;
         } else if (f.type == ReportType::kFeature) {
-            const bool known = (id >= usage::kTrackerQuality && id <= usage::kMaximumScreenPlaneHeight) ||
-                               (id >= usage::kDisplayManufacturerId &&
-                                id <= usage::kCalibratedScreenHeight) ||
-                               id == usage::kSamplingFrequency || id == usage::kConfigurationStatus;
+            const bool known =
+                (id >= usage::kTrackerQuality && id <= usage::kMaximumScreenPlaneHeight) ||
+                (id >= usage::kDisplayManufacturerId && id <= usage::kCalibratedScreenHeight) ||
+                id == usage::kSamplingFrequency || id == usage::kConfigurationStatus;
             if (!known) continue;
-            const bool distance = (id >= usage::kMinimumTrackingDistance &&
-                                   id <= usage::kMaximumScreenPlaneHeight) ||
-                                  id == usage::kCalibratedScreenWidth ||
-                                  id == usage::kCalibratedScreenHeight;
+            const bool distance =
+                (id >= usage::kMinimumTrackingDistance && id <= usage::kMaximumScreenPlaneHeight) ||
+                id == usage::kCalibratedScreenWidth || id == usage::kCalibratedScreenHeight;
             out.features.items.push_back({id, index, distance ? length_scale_um(f) : 1.0});
             bool seen = false;
             for (uint8_t r : out.features.report_ids) seen |= r == f.report_id;
@@ -173,9 +174,11 @@ Result<TrackerLayout> locate_tracker(const ReportDescriptor& desc) {
         }
     }
     if (out.tracking.empty())
-        return make_error("no Tracking Data input fields (timestamp, gaze point, eye or head "
-                          "position, rotation) on usage page 0x12");
-    for (const auto& t : out.tracking) out.max_input_bytes = std::max(out.max_input_bytes, t.wire_bytes);
+        return make_error(
+            "no Tracking Data input fields (timestamp, gaze point, eye or head "
+            "position, rotation) on usage page 0x12");
+    for (const auto& t : out.tracking)
+        out.max_input_bytes = std::max(out.max_input_bytes, t.wire_bytes);
     return out;
 }
 
@@ -217,7 +220,8 @@ DecodeStatus decode_tracking(const ReportDescriptor& desc, const TrackerLayout& 
         if (!fits(f, payload)) continue;
         const int64_t logical = to_logical(f, extract_bits(payload, f.bit_offset, f.bit_size));
         if (!in_logical_range(f, logical)) continue;  // HID null: no data for this channel
-        v[static_cast<std::size_t>(c)] = to_physical(f, logical) * t->scale[static_cast<std::size_t>(c)];
+        v[static_cast<std::size_t>(c)] =
+            to_physical(f, logical) * t->scale[static_cast<std::size_t>(c)];
     }
     auto has = [&](int c) { return t->channel[static_cast<std::size_t>(c)] >= 0; };
     auto ok = [&](int c) { return !std::isnan(v[static_cast<std::size_t>(c)]); };
@@ -238,8 +242,10 @@ DecodeStatus decode_tracking(const ReportDescriptor& desc, const TrackerLayout& 
         std::array<double, 3> r{0, 0, 0};
         for (int a = 0; a < 3; ++a) {
             if (!has(kRotX + a)) continue;
-            if (!ok(kRotX + a)) all = false;
-            else r[static_cast<std::size_t>(a)] = v[static_cast<std::size_t>(kRotX + a)];
+            if (!ok(kRotX + a))
+                all = false;
+            else
+                r[static_cast<std::size_t>(a)] = v[static_cast<std::size_t>(kRotX + a)];
         }
         if (all) out.rotation_deg = r;
     }
@@ -264,25 +270,25 @@ int decode_feature(const ReportDescriptor& desc, const TrackerLayout& layout,
         const double value = to_physical(f, logical) * item.scale;
         const auto as_u32 = static_cast<uint32_t>(logical);
         switch (item.usage) {
-        case usage::kTrackerQuality: info.tracker_quality = as_u32; break;
-        case usage::kMinimumTrackingDistance: info.min_tracking_distance_um = value; break;
-        case usage::kOptimumTrackingDistance: info.optimum_tracking_distance_um = value; break;
-        case usage::kMaximumTrackingDistance: info.max_tracking_distance_um = value; break;
-        case usage::kMaximumScreenPlaneWidth: info.max_screen_width_um = value; break;
-        case usage::kMaximumScreenPlaneHeight: info.max_screen_height_um = value; break;
-        case usage::kDisplayManufacturerId: info.display_manufacturer_id = as_u32; break;
-        case usage::kDisplayProductId: info.display_product_id = as_u32; break;
-        case usage::kDisplaySerialNumber: info.display_serial_number = as_u32; break;
-        case usage::kDisplayManufacturerDate: info.display_manufacturer_date = as_u32; break;
-        case usage::kCalibratedScreenWidth: info.calibrated_screen_width_um = value; break;
-        case usage::kCalibratedScreenHeight: info.calibrated_screen_height_um = value; break;
-        case usage::kSamplingFrequency: info.sampling_frequency_hz = value; break;
-        case usage::kConfigurationStatus:
-            info.configuration_status = logical >= 1 && logical <= 4
-                                            ? static_cast<ConfigurationStatus>(logical)
-                                            : ConfigurationStatus::kUnknown;
-            break;
-        default: continue;
+            case usage::kTrackerQuality: info.tracker_quality = as_u32; break;
+            case usage::kMinimumTrackingDistance: info.min_tracking_distance_um = value; break;
+            case usage::kOptimumTrackingDistance: info.optimum_tracking_distance_um = value; break;
+            case usage::kMaximumTrackingDistance: info.max_tracking_distance_um = value; break;
+            case usage::kMaximumScreenPlaneWidth: info.max_screen_width_um = value; break;
+            case usage::kMaximumScreenPlaneHeight: info.max_screen_height_um = value; break;
+            case usage::kDisplayManufacturerId: info.display_manufacturer_id = as_u32; break;
+            case usage::kDisplayProductId: info.display_product_id = as_u32; break;
+            case usage::kDisplaySerialNumber: info.display_serial_number = as_u32; break;
+            case usage::kDisplayManufacturerDate: info.display_manufacturer_date = as_u32; break;
+            case usage::kCalibratedScreenWidth: info.calibrated_screen_width_um = value; break;
+            case usage::kCalibratedScreenHeight: info.calibrated_screen_height_um = value; break;
+            case usage::kSamplingFrequency: info.sampling_frequency_hz = value; break;
+            case usage::kConfigurationStatus:
+                info.configuration_status = logical >= 1 && logical <= 4
+                                                ? static_cast<ConfigurationStatus>(logical)
+                                                : ConfigurationStatus::kUnknown;
+                break;
+            default: continue;
         }
         ++taken;
     }

@@ -67,24 +67,35 @@ const char* to_string(ConfigurationStatus s);
 
 // The values a Tracking Data report can carry, each located independently.
 enum Channel : int {
-    kGazeX, kGazeY,
-    kLeftEyeX, kLeftEyeY, kLeftEyeZ,
-    kRightEyeX, kRightEyeY, kRightEyeZ,
-    kHeadX, kHeadY, kHeadZ,
-    kHeadDirX, kHeadDirY, kHeadDirZ,
-    kRotX, kRotY, kRotZ,
+    kGazeX,
+    kGazeY,
+    kLeftEyeX,
+    kLeftEyeY,
+    kLeftEyeZ,
+    kRightEyeX,
+    kRightEyeY,
+    kRightEyeZ,
+    kHeadX,
+    kHeadY,
+    kHeadZ,
+    kHeadDirX,
+    kHeadDirY,
+    kHeadDirZ,
+    kRotX,
+    kRotY,
+    kRotZ,
     kChannelCount,
 };
 
 // Where one Tracking Data input report keeps its values (indices into ReportDescriptor::fields).
 struct TrackingReportLayout {
     uint8_t report_id = 0;
-    uint32_t wire_bytes = 0;        // expected bytes per read, report ID byte included
-    bool head_tracker = false;      // inside a Head Tracker (0x02) application collection
-    std::vector<int> timestamp;     // fields concatenated little-endian (a 64-bit stamp may be
-                                    // declared as 8 one-byte fields sharing the usage)
+    uint32_t wire_bytes = 0;         // expected bytes per read, report ID byte included
+    bool head_tracker = false;       // inside a Head Tracker (0x02) application collection
+    std::vector<int> timestamp;      // fields concatenated little-endian (a 64-bit stamp may be
+                                     // declared as 8 one-byte fields sharing the usage)
     double timestamp_tick_hz = 1e6;  // HUTRR74 timestamps count microseconds unless a unit says
-    std::array<int, kChannelCount> channel{};  // field index or -1
+    std::array<int, kChannelCount> channel{};   // field index or -1
     std::array<double, kChannelCount> scale{};  // physical value -> micrometres or degrees
 };
 

@@ -56,22 +56,28 @@ struct EyePoint {
     double norm_x = gaze::kNaN, norm_y = gaze::kNaN;  // normalized display coordinates
     double deg_x = gaze::kNaN, deg_y = gaze::kNaN;    // from the optical axis
     double px_x = gaze::kNaN, px_y = gaze::kNaN;      // pixels
-    bool valid = false;   // finite and in front of the eye
-    bool inside = false;  // within the view's field of view
+    bool valid = false;                               // finite and in front of the eye
+    bool inside = false;                              // within the view's field of view
 };
 
 // A gaze direction (any length, eye frame) to the eye's display.
 EyePoint map_direction(const EyeView& view, const Vec3& direction);
 // Normalized display coordinates back to a unit direction.
 Vec3 direction_from_normalized(const EyeView& view, double norm_x, double norm_y);
+// The same for many points through one view: its half-angles' tangents, computed once.
+struct ViewTangents {
+    double left = 0, right = 0, up = 0, down = 0;
+};
+ViewTangents tangents(const EyeView& view);
+Vec3 direction_from_normalized(const ViewTangents& view, double norm_x, double norm_y);
 
 struct VergencePoint {
-    bool valid = false;  // false for parallel or diverging rays
+    bool valid = false;                                // false for parallel or diverging rays
     Vec3 point_m{gaze::kNaN, gaze::kNaN, gaze::kNaN};  // midpoint of the rays' closest points
-    double distance_m = gaze::kNaN;  // from the midpoint between the eyes
-    double vergence_deg = 0;         // angle between the two gaze rays
-    double miss_m = gaze::kNaN;      // closest distance between the rays (noise indicator)
-    Vec3 cyclopean{0, 0, 1};         // unit direction from between the eyes to the point
+    double distance_m = gaze::kNaN;                    // from the midpoint between the eyes
+    double vergence_deg = 0;                           // angle between the two gaze rays
+    double miss_m = gaze::kNaN;  // closest distance between the rays (noise indicator)
+    Vec3 cyclopean{0, 0, 1};     // unit direction from between the eyes to the point
 };
 
 // Closest approach of two gaze rays, in the head frame.

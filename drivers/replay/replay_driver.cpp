@@ -1,5 +1,6 @@
-// The replay driver: the sim driver's absolute-deadline timer, fed from a recording. As fast as
-// possible means batches of samples, yielding to the loop between batches.
+// The replay driver: the sim driver's absolute-deadline timer, fed one sample ahead from a
+// fovea::import::Reader. As fast as possible means batches of samples, yielding to the loop
+// between batches. Looping reopens the file.
 #include "replay/replay_driver.hpp"
 
 #include "fovea/drivers/support.hpp"
@@ -11,14 +12,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <mutex>
 #include <optional>
 
-#include <boost/asio/post.hpp>
-#include <boost/asio/steady_timer.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
-
-#include "replay/recording.hpp"
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 namespace fovea::drivers::replay {
 namespace {
@@ -26,16 +26,27 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kMinBatch = std::chrono::milliseconds(1);
 constexpr std::size_t kFastBatch = 1024;  // samples per loop turn when replaying at full speed
+constexpr std::size_t kIssuesLogged = 5;  // per pass over the file; the rest are counted
 
 std::shared_ptr<spdlog::logger> logger() {
     static const auto log = driver_logger("replay");  // FOVEA_LOG_DRV_REPLAY=debug
     return log;
 }
 
+import::Options import_options(const ReplayConfig& c){import::Options o;
+o.format = c.format;
+o.min_confidence = c.min_confidence;
+return o;
+}  // namespace
+
 class ReplayDriver final : public Driver {
 public:
-    ReplayDriver(const ReplayConfig& config, Recording rec, uint32_t device_id)
-        : config_(config), rec_(std::move(rec)), device_id_(device_id) {}
+    ReplayDriver(const ReplayConfig& config, std::unique_ptr<import::Reader> reader,
+                 uint32_t device_id)
+        : config_(config),
+          reader_(std::move(reader)),
+          info_(reader_->info()),
+          device_id_(device_id) {}
     ~ReplayDriver() override { close(); }
 
     Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
@@ -43,12 +54,15 @@ public:
         sink_ = std::move(sink);
         timer_.emplace(io);
         alive_ = std::make_shared<int>(0);
-        next_ = 0;
         start_ = Clock::now();
         connected_ = true;
-        logger()->info("replaying {} ({}, {} samples, {} Hz) at {}", config_.path, rec_.format,
-                       rec_.samples.size(), rec_.nominal_rate_hz,
+        logger()->info("replaying {} ({}, {}, {} Hz) at {}", config_.path,
+                       import::format_name(info_.format), info_.variant, info_.rate_hz(),
                        config_.speed > 0 ? std::to_string(config_.speed) + "x" : "full speed");
+        if (!fetch()) {
+            finish();
+            return {};
+        }
         if (config_.speed > 0) {
             schedule(start_);
         } else {
@@ -67,50 +81,84 @@ public:
     DriverInfo describe() const override {
         DriverInfo info;
         info.driver = "replay";
-        info.name = "replay of " + config_.path + " (" + rec_.format + ")";
+        info.name = "replay of " + config_.path + " (" + import::format_name(info_.format) +
+                    (info_.device.empty() ? "" : ", " + info_.device) + ")";
         info.address = config_.path;
         // Scaled replay: the device clock appears to run `speed` times faster.
         const double scale = config_.speed > 0 ? config_.speed : 1.0;
-        info.nominal_rate_hz = rec_.nominal_rate_hz * scale;
-        info.clock = {64, rec_.clock.tick_hz * scale};
-        info.binocular = rec_.binocular;
-        info.has_pupil = rec_.has_pupil;
+        info.nominal_rate_hz = info_.rate_hz() * scale;
+        info.clock = {64, info_.clock.tick_hz * scale};
+        info.binocular = info_.binocular;
+        info.has_pupil = info_.has_pupil;
         return info;
     }
 
     DriverStats stats() const override {
         DriverStats s;
         s.samples = samples_.load(std::memory_order_relaxed);
-        s.frames_dropped = rec_.skipped_rows;
+        s.frames_dropped = dropped_.load(std::memory_order_relaxed);
         s.connected = connected_.load(std::memory_order_relaxed);
         s.reconnects = loops_.load(std::memory_order_relaxed);
+        std::lock_guard lock(error_mutex_);
+        s.last_error = last_error_;
         return s;
     }
 
 private:
-    Clock::time_point due(std::size_t i) const {
-        const double ns = static_cast<double>(rec_.t_ns[i]) / config_.speed;
+    Clock::time_point due(double t_s) const {
+        const double ns = (t_s - first_s_) * 1e9 / config_.speed;
         return start_ + std::chrono::nanoseconds(static_cast<int64_t>(ns));
+    }
+
+    // Reads ahead to the next sample; false at the end of the file.
+    bool fetch() {
+        for (auto item = reader_->next(); item != import::Item::kEnd; item = reader_->next()) {
+            if (item != import::Item::kSample) continue;
+            const import::Sample& s = reader_->sample();
+            pending_ = s.raw;
+            pending_s_ = s.time_s;
+            if (!have_first_) {
+                first_s_ = s.time_s;
+                first_ticks_ = s.raw.device_ticks;
+                have_first_ = true;
+            }
+            return true;
+        }
+        report_pass();
+        return false;
+    }
+
+    void report_pass() {
+        const import::ReadStats& st = reader_->stats();
+        dropped_.fetch_add(st.skipped, std::memory_order_relaxed);
+        for (std::size_t i = 0; i < std::min(kIssuesLogged, st.issues.size()); ++i)
+            logger()->warn("{}", st.issues[i]);
+        if (st.issue_count > kIssuesLogged)
+            logger()->warn("{}: {} more issues", config_.path, st.issue_count - kIssuesLogged);
+        const std::string err = reader_->error();
+        if (!err.empty()) {
+            logger()->error("{}", err);
+            std::lock_guard lock(error_mutex_);
+            last_error_ = err;
+        }
     }
 
     void schedule(Clock::time_point at) {
         timer_->expires_at(at);
-        timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](boost::system::error_code ec) {
-            if (ec || token.expired()) return;
-            on_tick();
-        });
+        timer_->async_wait(
+            [this, token = std::weak_ptr<int>(alive_)](boost::system::error_code ec) {
+                if (ec || token.expired()) return;
+                on_tick();
+            });
     }
 
     void post_fast() {
         boost::asio::post(*io_, [this, token = std::weak_ptr<int>(alive_)] {
             if (token.expired()) return;
-            const std::size_t end = std::min(next_ + kFastBatch, rec_.samples.size());
             const int64_t t_receive = monotonic_ns();
-            while (next_ < end) {
-                emit(t_receive);
-                if (token.expired()) return;
+            for (std::size_t i = 0; i < kFastBatch; ++i) {
+                if (!emit(t_receive) || token.expired()) return;
             }
-            if (at_end()) return;
             post_fast();
         });
     }
@@ -119,41 +167,57 @@ private:
         const auto now = Clock::now();
         const int64_t t_receive = monotonic_ns();
         const auto token = std::weak_ptr<int>(alive_);
-        while (next_ < rec_.samples.size() && due(next_) <= now) {
-            emit(t_receive);
-            if (token.expired()) return;
+        while (due(pending_s_) <= now) {
+            if (!emit(t_receive) || token.expired()) return;
         }
-        if (at_end()) return;
-        schedule(std::max(due(next_), now + kMinBatch));
+        schedule(std::max(due(pending_s_), now + kMinBatch));
     }
 
-    void emit(int64_t t_receive) {
-        gaze::RawSample s = rec_.samples[next_++];
+    // Delivers the pending sample and reads the next; false when the replay is over (or
+    // restarted on its own schedule with loop).
+    bool emit(int64_t t_receive) {
+        gaze::RawSample s = pending_;
+        last_ticks_ = s.device_ticks;
+        last_s_ = pending_s_;
         s.device_ticks += tick_offset_;
         s.t_receive_ns = t_receive;
         s.device_id = device_id_;
         samples_.fetch_add(1, std::memory_order_relaxed);
+        const auto token = std::weak_ptr<int>(alive_);
         sink_(s);
+        if (token.expired()) return false;
+        if (fetch()) return true;
+        if (!config_.loop || !restart()) finish();
+        return false;
     }
 
-    // True when the replay is over; with loop, rewinds instead.
-    bool at_end() {
-        if (next_ < rec_.samples.size()) return false;
-        if (!config_.loop) {
-            logger()->info("replay of {} finished: {} samples", config_.path, samples_.load());
-            connected_ = false;
-            return true;
+    void finish() {
+        logger()->info("replay of {} finished: {} samples", config_.path, samples_.load());
+        connected_ = false;
+    }
+
+    // Loop: reopen the file; the device counter keeps counting, one period after the last.
+    bool restart() {
+        import::Options o = import_options(config_);
+        o.format = info_.format;
+        o.rate_hz = info_.measured_rate_hz;
+        auto reader = import::open(config_.path, o);
+        if (!reader) {
+            logger()->error("replay: cannot reopen for the next loop: {}", reader.error().message);
+            std::lock_guard lock(error_mutex_);
+            last_error_ = reader.error().message;
+            return false;
         }
-        // The device counter keeps counting across the loop: one nominal period after the last.
-        const auto& first = rec_.samples.front();
-        const auto& last = rec_.samples.back();
-        const double period_ticks = rec_.clock.tick_hz / std::max(1.0, rec_.nominal_rate_hz);
-        tick_offset_ += last.device_ticks - first.device_ticks + static_cast<uint64_t>(period_ticks);
-        const double period_ns = 1e9 / std::max(1.0, rec_.nominal_rate_hz) / std::max(config_.speed, 1e-9);
-        start_ = (config_.speed > 0 ? due(rec_.samples.size() - 1) : Clock::now()) +
+        reader_ = std::move(*reader);
+        const double rate = std::max(1.0, info_.rate_hz());
+        tick_offset_ +=
+            last_ticks_ - first_ticks_ + static_cast<uint64_t>(info_.clock.tick_hz / rate);
+        const double period_ns = 1e9 / rate / std::max(config_.speed, 1e-9);
+        start_ = (config_.speed > 0 ? due(last_s_) : Clock::now()) +
                  std::chrono::nanoseconds(static_cast<int64_t>(period_ns));
-        next_ = 0;
+        have_first_ = false;
         ++loops_;
+        if (!fetch()) return false;
         if (config_.speed > 0) {
             schedule(start_);
         } else {
@@ -163,51 +227,59 @@ private:
     }
 
     ReplayConfig config_;
-    Recording rec_;
+    std::unique_ptr<import::Reader> reader_;
+    const import::SourceInfo info_;  // of the first pass
     uint32_t device_id_;
     boost::asio::io_context* io_ = nullptr;
     SampleSink sink_;
     std::optional<boost::asio::steady_timer> timer_;
     std::shared_ptr<int> alive_;
     Clock::time_point start_;
-    std::size_t next_ = 0;
+    gaze::RawSample pending_;
+    double pending_s_ = 0, first_s_ = 0, last_s_ = 0;
+    uint64_t first_ticks_ = 0, last_ticks_ = 0;
+    bool have_first_ = false;
     uint64_t tick_offset_ = 0;
-    std::atomic<uint64_t> samples_{0}, loops_{0};
+    std::atomic<uint64_t> samples_{0}, loops_{0}, dropped_{0};
     std::atomic<bool> connected_{false};
+    mutable std::mutex error_mutex_;
+    std::string last_error_;
 };
 
-}  // namespace
+}  // namespace fovea::drivers::replay
 
 Result<ReplayConfig> parse_config(const toml::table& t) {
     ReplayConfig c;
-    if (const toml::node* n = t.get("path")) {
-        const auto v = n->value<std::string>();
-        if (!v) return make_error("replay: key 'path' must be a string");
-        c.path = *v;
+    if (auto r = read_key("replay", t, "path", c.path); !r) return r.error();
+    if (c.path.empty())
+        return make_error("replay: 'path' is required (a recording file or Pupil folder)");
+    std::string format;
+    if (auto r = read_key("replay", t, "format", format); !r) return r.error();
+    if (!format.empty()) {
+        c.format = import::format_from_name(format);
+        if (!c.format) {
+            std::string known;
+            for (auto f : import::all_formats())
+                known += std::string(known.empty() ? "" : ", ") + import::format_name(f);
+            return make_error("replay: unknown format '" + format + "' (known: " + known + ")");
+        }
     }
-    if (c.path.empty()) return make_error("replay: 'path' is required (a lund2013 or fovea CSV file)");
-    if (const toml::node* n = t.get("speed")) {
-        const auto v = n->value<double>();
-        if (!v) return make_error("replay: key 'speed' must be a number (0 = as fast as possible)");
-        c.speed = *v;
-    }
+    if (auto r = read_key("replay", t, "speed", c.speed); !r)
+        return make_error("replay: key 'speed' must be a number (0 = as fast as possible)");
     if (!(c.speed >= 0 && c.speed <= 1000)) return make_error("replay: speed must be 0..1000");
-    if (const toml::node* n = t.get("loop")) {
-        const auto v = n->value<bool>();
-        if (!v) return make_error("replay: key 'loop' must be true or false");
-        c.loop = *v;
-    }
+    if (auto r = read_key("replay", t, "loop", c.loop); !r)
+        return make_error("replay: key 'loop' must be true or false");
+    if (auto r = read_key("replay", t, "min_confidence", c.min_confidence); !r) return r.error();
+    if (!(c.min_confidence >= 0 && c.min_confidence <= 1))
+        return make_error("replay: min_confidence must be 0..1");
     return c;
 }
 
 Result<std::unique_ptr<Driver>> make_replay_driver(const ReplayConfig& config, uint32_t device_id) {
-    auto rec = load_recording(config.path);
-    if (!rec.ok()) return make_error("replay: " + rec.error().message);
-    if (rec->skipped_rows != 0) {
-        logger()->warn("{}: skipped {} of {} rows (unparseable or time going backwards)", config.path,
-                       rec->skipped_rows, rec->rows);
-    }
-    return std::unique_ptr<Driver>(std::make_unique<ReplayDriver>(config, std::move(*rec), device_id));
+    auto reader = import::open(config.path, import_options(config));
+    if (!reader) return make_error("replay: " + reader.error().message);
+    return std::unique_ptr<Driver>(
+        std::make_unique<ReplayDriver>(config, std::move(*reader), device_id));
 }
 
 Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id) {

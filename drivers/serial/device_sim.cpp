@@ -15,14 +15,16 @@ namespace fovea::drivers::serial {
 Result<std::unique_ptr<PtyPort>> PtyPort::open(const std::string& link) {
     std::unique_ptr<PtyPort> p(new PtyPort());
     p->master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    if (p->master_ < 0) return make_error(std::string("posix_openpt: ") + std::strerror(errno), errno);
+    if (p->master_ < 0)
+        return make_error(std::string("posix_openpt: ") + std::strerror(errno), errno);
     char name[128];
     if (::grantpt(p->master_) != 0 || ::unlockpt(p->master_) != 0 ||
         ::ptsname_r(p->master_, name, sizeof name) != 0)
         return make_error(std::string("pty setup: ") + std::strerror(errno), errno);
     p->slave_path_ = name;
     p->slave_ = ::open(name, O_RDWR | O_NOCTTY | O_CLOEXEC);
-    if (p->slave_ < 0) return make_error(std::string("open ") + name + ": " + std::strerror(errno), errno);
+    if (p->slave_ < 0)
+        return make_error(std::string("open ") + name + ": " + std::strerror(errno), errno);
     termios tio{};
     ::tcgetattr(p->slave_, &tio);
     ::cfmakeraw(&tio);
@@ -43,7 +45,8 @@ Result<std::unique_ptr<PtyPort>> PtyPort::open(const std::string& link) {
 PtyPort::~PtyPort() {
     if (!link_.empty()) {
         std::error_code ec;
-        if (std::filesystem::read_symlink(link_, ec) == slave_path_) std::filesystem::remove(link_, ec);
+        if (std::filesystem::read_symlink(link_, ec) == slave_path_)
+            std::filesystem::remove(link_, ec);
     }
     if (slave_ >= 0) ::close(slave_);
     if (master_ >= 0) ::close(master_);
@@ -138,7 +141,8 @@ void DeviceEmulator::on_host_bytes(std::span<const uint8_t> bytes, std::vector<u
                     // Keep the device counter running across the change; new seed, new movements.
                     const double ticks = sim_config_.tick_hz / rate;
                     const uint64_t mask = sim_config_.counter_bits == 64
-                                              ? ~0ULL : (1ULL << sim_config_.counter_bits) - 1;
+                                              ? ~0ULL
+                                              : (1ULL << sim_config_.counter_bits) - 1;
                     sim_config_.counter_offset = static_cast<int64_t>(
                         (last_ticks_ + static_cast<uint64_t>(ticks)) & mask & ~(1ULL << 63));
                     sim_config_.rate_hz = rate;

@@ -53,12 +53,12 @@ struct FaultOptions {
 class DeviceEmulator {
 public:
     struct Stats {
-        uint64_t frames = 0;           // frames put on the wire intact (hellos included)
+        uint64_t frames = 0;  // frames put on the wire intact (hellos included)
         uint64_t hellos = 0;
-        uint64_t dropped = 0;          // frames skipped on purpose (--drop)
-        uint64_t corrupted = 0;        // frames sent with a flipped byte (--corrupt)
+        uint64_t dropped = 0;    // frames skipped on purpose (--drop)
+        uint64_t corrupted = 0;  // frames sent with a flipped byte (--corrupt)
         uint64_t garbage_bursts = 0;
-        uint64_t host_frames = 0;      // requests understood
+        uint64_t host_frames = 0;  // requests understood
     };
 
     DeviceEmulator(const sim::SimConfig& sim, const FaultOptions& faults, std::string name);

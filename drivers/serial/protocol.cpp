@@ -42,7 +42,9 @@ uint16_t get_u16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] <
 uint32_t get_u32(const uint8_t* p) {
     return uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
 }
-uint64_t get_u64(const uint8_t* p) { return uint64_t{get_u32(p)} | (uint64_t{get_u32(p + 4)} << 32); }
+uint64_t get_u64(const uint8_t* p) {
+    return uint64_t{get_u32(p)} | (uint64_t{get_u32(p + 4)} << 32);
+}
 float get_f32(const uint8_t* p) { return std::bit_cast<float>(get_u32(p)); }
 
 // Appends COBS(in) (no delimiter). Frames are <= 255 bytes, so at most 2 overhead bytes.
@@ -173,7 +175,8 @@ std::optional<Hello> decode_hello(std::span<const uint8_t> p, std::string* why) 
     h.tick_hz = get_u32(&p[4]);
     h.rate_mhz = get_u32(&p[8]);
     h.baud = get_u32(&p[12]);
-    h.name.assign(reinterpret_cast<const char*>(&p[kHelloFixed]), std::min<std::size_t>(p[16], kMaxName));
+    h.name.assign(reinterpret_cast<const char*>(&p[kHelloFixed]),
+                  std::min<std::size_t>(p[16], kMaxName));
     if (h.counter_bits != 16 && h.counter_bits != 32 && h.counter_bits != 64) {
         if (why) *why = "hello: counter_bits must be 16, 32 or 64";
         return std::nullopt;

@@ -16,9 +16,9 @@
 namespace fovea::drivers::serial {
 
 inline constexpr uint8_t kProtocolVersion = 1;
-inline constexpr std::size_t kHeaderSize = 4;            // version, type, seq (u16 LE)
-inline constexpr std::size_t kCrcSize = 4;               // CRC-32 (IEEE 802.3), LE
-inline constexpr std::size_t kMaxFrameSize = 255;        // decoded: header + payload + CRC
+inline constexpr std::size_t kHeaderSize = 4;      // version, type, seq (u16 LE)
+inline constexpr std::size_t kCrcSize = 4;         // CRC-32 (IEEE 802.3), LE
+inline constexpr std::size_t kMaxFrameSize = 255;  // decoded: header + payload + CRC
 inline constexpr std::size_t kMaxEncodedSize = kMaxFrameSize + 2;  // + COBS overhead, no delimiter
 
 enum class FrameType : uint8_t {
@@ -76,10 +76,10 @@ class FrameDecoder {
 public:
     struct Stats {
         uint64_t bytes = 0;
-        uint64_t frames = 0;        // good frames
-        uint64_t dropped = 0;       // delimited chunks rejected (COBS, length, CRC, version)
-        uint64_t resyncs = 0;       // times sync was lost (a run of bad chunks counts once)
-        uint64_t garbage_bytes = 0; // bytes in rejected chunks
+        uint64_t frames = 0;         // good frames
+        uint64_t dropped = 0;        // delimited chunks rejected (COBS, length, CRC, version)
+        uint64_t resyncs = 0;        // times sync was lost (a run of bad chunks counts once)
+        uint64_t garbage_bytes = 0;  // bytes in rejected chunks
     };
     enum class Reject { kNone, kOversize, kCobs, kShort, kCrc, kVersion };
 

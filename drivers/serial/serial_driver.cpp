@@ -15,11 +15,11 @@
 #include <mutex>
 #include <optional>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 #include <boost/asio/serial_port.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
 
 #include "serial/protocol.hpp"
 
@@ -72,8 +72,9 @@ public:
         info.address = config_.port;
         info.name = hello_ ? hello_->name : "serial tracker (no hello yet)";
         info.nominal_rate_hz = hello_ ? hello_->rate_mhz / 1000.0 : config_.rate_hz;
-        info.clock = hello_ ? gaze::DeviceClock{hello_->counter_bits, static_cast<double>(hello_->tick_hz)}
-                            : gaze::DeviceClock{config_.counter_bits, config_.tick_hz};
+        info.clock =
+            hello_ ? gaze::DeviceClock{hello_->counter_bits, static_cast<double>(hello_->tick_hz)}
+                   : gaze::DeviceClock{config_.counter_bits, config_.tick_hz};
         info.binocular = hello_ ? hello_->binocular : true;
         info.has_pupil = hello_ ? hello_->has_pupil : false;
         return info;
@@ -99,13 +100,13 @@ private:
         if (!ec) port_->set_option(boost::asio::serial_port::character_size(8), ec);
         if (!ec) {
             port_->set_option(boost::asio::serial_port::flow_control(
-                                  boost::asio::serial_port::flow_control::none), ec);
+                                  boost::asio::serial_port::flow_control::none),
+                              ec);
         }
         if (ec) {
             drop_port();
             set_error(config_.port + ": " + ec.message());
-            open_failures_.warn("cannot open " + config_.port + ": " + ec.message() +
-                                "; retrying");
+            open_failures_.warn("cannot open " + config_.port + ": " + ec.message() + "; retrying");
             schedule_retry();
             return;
         }
@@ -200,7 +201,8 @@ private:
                 if (auto h = decode_hello(f.payload, &why)) {
                     if (h->counter_bits != config_.counter_bits ||
                         h->tick_hz != static_cast<uint32_t>(config_.tick_hz)) {
-                        bad_frames_.warn(config_.port + ": device clock differs from the configured "
+                        bad_frames_.warn(config_.port +
+                                         ": device clock differs from the configured "
                                          "counter_bits/tick_hz; set them in the [[device]] table");
                     }
                     if (!hello_) {
@@ -311,10 +313,13 @@ Result<SerialConfig> parse_config(const toml::table& t) {
     check(read_key(t, "counter_bits", bits));
     check(read_key(t, "tick_hz", c.tick_hz));
     if (!r.ok()) return r.error();
-    if (bits != 16 && bits != 32 && bits != 64) return make_error("serial: counter_bits must be 16, 32 or 64");
-    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10)) return make_error("serial: tick_hz must be 1..1e10");
+    if (bits != 16 && bits != 32 && bits != 64)
+        return make_error("serial: counter_bits must be 16, 32 or 64");
+    if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10))
+        return make_error("serial: tick_hz must be 1..1e10");
     c.counter_bits = static_cast<int>(bits);
-    if (c.port.empty()) return make_error("serial: 'port' is required (e.g. port = \"/dev/ttyACM0\")");
+    if (c.port.empty())
+        return make_error("serial: 'port' is required (e.g. port = \"/dev/ttyACM0\")");
     if (baud < 50 || baud > 20'000'000) return make_error("serial: baud must be 50..20000000");
     if (c.rate_hz != 0 && !(c.rate_hz >= 1 && c.rate_hz <= 10000))
         return make_error("serial: rate_hz must be 1..10000 (or 0 to keep the device's)");

@@ -17,9 +17,9 @@
 #include <string>
 #include <utility>
 
-#include <boost/asio/steady_timer.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <boost/asio/steady_timer.hpp>
 
 #include "sim/sim_tracker.hpp"
 
@@ -82,7 +82,8 @@ Result<SimConfig> parse_config(const toml::table& t) {
 
 class SimDriver final : public Driver {
 public:
-    SimDriver(const SimConfig& config, uint32_t device_id) : config_(config), device_id_(device_id) {}
+    SimDriver(const SimConfig& config, uint32_t device_id)
+        : config_(config), device_id_(device_id) {}
     ~SimDriver() override { close(); }
 
     Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
@@ -151,10 +152,11 @@ private:
 
     void schedule(std::chrono::steady_clock::time_point at) {
         timer_->expires_at(at);
-        timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](boost::system::error_code ec) {
-            if (ec || token.expired()) return;
-            on_tick();
-        });
+        timer_->async_wait(
+            [this, token = std::weak_ptr<int>(alive_)](boost::system::error_code ec) {
+                if (ec || token.expired()) return;
+                on_tick();
+            });
     }
 
     void on_tick() {

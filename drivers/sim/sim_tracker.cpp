@@ -26,12 +26,6 @@ double beta_peak_density(double a, double b) {
 
 }  // namespace
 
-double main_sequence_peak_velocity_dps(double amplitude_deg) {
-    return 560.0 * (1.0 - std::exp(-amplitude_deg / 4.25));
-}
-
-double main_sequence_duration_ms(double amplitude_deg) { return 2.6 * amplitude_deg + 17.0; }
-
 void distort(double s, bool right_eye, double& x, double& y) {
     if (s == 0.0) return;
     const double u = x - 0.5, v = y - 0.5;
@@ -46,11 +40,13 @@ Result<void> validate(const SimConfig& c) {
         return make_error("sim: rate_hz must be within 60..2000, got " + std::to_string(c.rate_hz));
     if (c.counter_bits != 16 && c.counter_bits != 32 && c.counter_bits != 64)
         return make_error("sim: counter_bits must be 16, 32 or 64");
-    if (!(c.tick_hz >= 1e3 && c.tick_hz <= 1e10)) return make_error("sim: tick_hz must be 1e3..1e10");
+    if (!(c.tick_hz >= 1e3 && c.tick_hz <= 1e10))
+        return make_error("sim: tick_hz must be 1e3..1e10");
     if (!(std::fabs(c.drift_ppm) <= 1000.0)) return make_error("sim: |drift_ppm| must be <= 1000");
     if (!(c.noise_deg >= 0 && c.noise_deg <= 5 && c.tremor_deg >= 0 && c.tremor_deg <= 1 &&
           c.drift_dps >= 0 && c.drift_dps <= 5 && std::fabs(c.vergence_deg) <= 5))
-        return make_error("sim: noise_deg 0..5, tremor_deg 0..1, drift_dps 0..5, |vergence_deg| <= 5");
+        return make_error(
+            "sim: noise_deg 0..5, tremor_deg 0..1, drift_dps 0..5, |vergence_deg| <= 5");
     if (!(c.fixation_mean_ms >= 80 && c.fixation_mean_ms <= 5000))
         return make_error("sim: fixation_mean_ms must be within 80..5000");
     if (!(c.saccade_median_deg >= 0.5 && c.saccade_median_deg <= 30))
@@ -101,7 +97,8 @@ double SimTracker::Rng::normal() {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
-SimTracker::SimTracker(const SimConfig& config) : config_(config), rng_(config.seed) {
+SimTracker::SimTracker(const SimConfig& config)
+    : config_(config), rng_(config.seed), shape_rng_(config.seed ^ 0x5ACCADE5ULL) {
     assert(validate(config).ok());
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     config_.display.to_degrees(0.05, 0.05, x0, y0);
@@ -134,6 +131,14 @@ SimTracker::SimTracker(const SimConfig& config) : config_(config), rng_(config.s
         counter_offset_ = ten_s < range_mask ? (range_mask - ten_s + 1) : 0;
     }
 
+    // This subject's main sequence: the published curve scaled per subject (peak velocity and
+    // duration each vary ~10 % between people; a seed is one subject). Saccade shapes draw from
+    // their own stream, so the rest of the simulation does not depend on them.
+    subject_ = config_.main_sequence;
+    subject_.peak_dps *= 1.0 + std::clamp(0.10 * shape_rng_.normal(), -0.25, 0.25);
+    const double dur_scale = 1.0 + std::clamp(0.08 * shape_rng_.normal(), -0.2, 0.2);
+    subject_.duration_slope_ms *= dur_scale;
+    subject_.duration_intercept_ms *= dur_scale;
     anisocoria_mm_ = rng_.uniform(-0.15, 0.15);
     bias_lx_ = rng_.normal() * 0.1;
     bias_ly_ = rng_.normal() * 0.1;
@@ -194,20 +199,27 @@ bool SimTracker::start_saccade(int64_t t_ns) {
 }
 
 void SimTracker::begin_saccade(int64_t t_ns, double dx, double dy, double amp) {
-    // Main sequence with per-saccade variability that keeps Vp * D / A (the profile's shape).
-    const double jitter = 1.0 + std::clamp(0.08 * rng_.normal(), -0.25, 0.25);
-    const double dur_s = main_sequence_duration_ms(amp) * 1e-3 * jitter;
-    const double vp = main_sequence_peak_velocity_dps(amp) / jitter;
-    // Velocity ~ Beta(a, r a) in normalized time: r > 1 puts the peak early (fast acceleration,
-    // longer deceleration), more so for large saccades. Pick a so the peak matches vp.
-    const double q = vp * dur_s / amp;
-    const double r = 1.0 + 0.9 * std::min(amp, 30.0) / 30.0 + 0.15;
-    double lo = 1.01, hi = 40.0;
+    // Per saccade: the duration spreads +-15-20 % (2 SD) around the subject's curve, the peak
+    // velocity moves against it (a faster saccade of the same size is shorter), with its own
+    // 4 % scatter, so the profile's peak-to-mean ratio Vp D / A varies too.
+    const double dur_f = 1.0 + std::clamp(0.09 * rng_.normal(), -0.3, 0.3);
+    const double dur_s = subject_.duration_s(amp) * dur_f;
+    const double vp = subject_.peak_velocity_dps(amp) / dur_f *
+                      (1.0 + std::clamp(0.04 * shape_rng_.normal(), -0.12, 0.12));
+    // Velocity ~ Beta(a, b) in normalized time with its peak at 30-45 % of the duration, the
+    // earlier the larger the saccade (fast acceleration, long deceleration); a sets how peaked
+    // it is, chosen so the peak matches vp.
+    const double q = std::max(1.05, vp * dur_s / amp);
+    const double mode = std::clamp(0.45 - 0.15 * std::min(amp, 30.0) / 30.0 +
+                                       std::clamp(0.03 * shape_rng_.normal(), -0.05, 0.05),
+                                   0.28, 0.48);
+    auto b_of = [mode](double a) { return 1.0 + (a - 1.0) * (1.0 - mode) / mode; };
+    double lo = 1.0001, hi = 60.0;
     for (int i = 0; i < 60; ++i) {
         const double mid = 0.5 * (lo + hi);
-        (beta_peak_density(mid, r * mid) < q ? lo : hi) = mid;
+        (beta_peak_density(mid, b_of(mid)) < q ? lo : hi) = mid;
     }
-    const double a = 0.5 * (lo + hi), b = r * a;
+    const double a = 0.5 * (lo + hi), b = b_of(a);
     profile_cdf_[0] = 0;
     for (int i = 0; i < kProfileSteps; ++i) {
         const double tau = (i + 0.5) / kProfileSteps;
@@ -319,8 +331,8 @@ void SimTracker::start_next_phase(int64_t t_ns) {
             y_ = sac_y0_ + sac_dy_;
             // PSO: 10-40 ms, amplitude grows with the saccade; 1-1.5 cycles, decaying.
             const double amp = truth_.saccade_amplitude_deg;
-            const double dur_s = std::clamp(0.010 + 0.0012 * amp + rng_.uniform(0, 0.012), 0.010,
-                                            0.040);
+            const double dur_s =
+                std::clamp(0.010 + 0.0012 * amp + rng_.uniform(0, 0.012), 0.010, 0.040);
             pso_amp_deg_ = std::min(0.03 + 0.03 * amp, 0.6) * rng_.uniform(0.6, 1.2);
             pso_period_s_ = dur_s / rng_.uniform(1.0, 1.5);
             pso_decay_s_ = dur_s / 3.0;
@@ -334,9 +346,7 @@ void SimTracker::start_next_phase(int64_t t_ns) {
         }
         case Phase::kPso:
         case Phase::kPursuit:
-        case Phase::kBlink:
-            start_fixation(t_ns, config_.fixation_mean_ms);
-            break;
+        case Phase::kBlink: start_fixation(t_ns, config_.fixation_mean_ms); break;
     }
 }
 
@@ -365,8 +375,7 @@ void SimTracker::advance(int64_t t_ns, double dt_s) {
             break;
         }
         case Phase::kPso:
-        case Phase::kBlink:
-            break;
+        case Phase::kBlink: break;
         case Phase::kPursuit: {
             const double ramp = smoothstep(t_in / 0.08);  // ~80 ms onset
             x_ += pur_vx_ * ramp * dt_s;
@@ -431,8 +440,9 @@ void SimTracker::eye_outputs(int64_t t_ns, gaze::EyeSample& left, gaze::EyeSampl
             rng_.normal();
             return;
         }
-        const double ex = x_ + pso * pso_gain * ux + side * (config_.vergence_deg / 2 + sac_diverge) +
-                          bx + tremor_x + noise * rng_.normal();
+        const double ex = x_ + pso * pso_gain * ux +
+                          side * (config_.vergence_deg / 2 + sac_diverge) + bx + tremor_x +
+                          noise * rng_.normal();
         const double ey = y_ + pso * pso_gain * uy + by + tremor_y + sag + noise * rng_.normal();
         config_.display.to_normalized(ex, ey, eye.x, eye.y);
         distort(config_.distortion, side < 0, eye.x, eye.y);
@@ -456,8 +466,8 @@ uint64_t SimTracker::device_ticks(int64_t t_rel_ns) const {
 }
 
 SimTracker::Frame SimTracker::next() {
-    const auto t_ns =
-        static_cast<int64_t>(std::llround(static_cast<long double>(index_) * 1e9L / config_.rate_hz));
+    const auto t_ns = static_cast<int64_t>(
+        std::llround(static_cast<long double>(index_) * 1e9L / config_.rate_hz));
     const double dt_s = (t_ns - prev_t_ns_) / kNsPerS;
     // Phase boundaries fall at exact times, independent of the sampling rate.
     while (t_ns >= phase_end_ns_) start_next_phase(phase_end_ns_);

@@ -4,8 +4,11 @@
 //
 // Model (degrees of visual angle from the display centre, +x right, +y down):
 // - fixations: slow drift (random-walk direction, pulled back to the target) + tremor + noise;
-// - saccades on the main sequence of ../shared/data/README.md, Vp = 560 (1 - e^(-A/4.25)) deg/s,
-//   D = 2.6 A + 17 ms, with an asymmetric (beta-shaped) velocity profile, skew growing with A;
+// - saccades on a published main sequence (gaze/main_sequence.hpp: kPublished, Dai et al. 2016
+//   peak velocity, Carpenter 1988 duration), never the one the landing predictor assumes: each
+//   seed is a subject whose curve is scaled by ~10 % (subject_main_sequence()), each saccade's
+//   duration spreads +-15-20 % around it, and the velocity profile is a skewed beta whose peak
+//   falls at 30-45 % of the duration, earlier for larger saccades;
 // - post-saccadic oscillation: damped, 10-40 ms, slightly larger in the abducting eye;
 // - smooth pursuit at 2-30 deg/s with a ramped onset;
 // - blinks of 100-400 ms: lid edges drag gaze down and shrink the pupil, the middle is invalid.
@@ -26,6 +29,7 @@
 #include <array>
 #include <cstdint>
 
+#include "fovea/gaze/main_sequence.hpp"
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
 
@@ -37,21 +41,22 @@ struct SimConfig {
     gaze::DisplayGeometry display;
     bool binocular = true;  // false: only the left eye is valid
 
-    double noise_deg = 0.03;         // tracker measurement noise, RMS per axis and eye
-    double tremor_deg = 0.008;       // ocular tremor amplitude (~84 Hz)
-    double drift_dps = 0.25;         // fixational drift speed
-    double vergence_deg = 0.3;       // horizontal disparity between the eyes while fixating
+    double noise_deg = 0.03;    // tracker measurement noise, RMS per axis and eye
+    double tremor_deg = 0.008;  // ocular tremor amplitude (~84 Hz)
+    double drift_dps = 0.25;    // fixational drift speed
+    double vergence_deg = 0.3;  // horizontal disparity between the eyes while fixating
     double fixation_mean_ms = 280.0;
     double saccade_median_deg = 4.0;  // amplitudes are log-normal, clamped to 0.5..30 deg
     double blink_rate_hz = 0.25;      // ~15 blinks a minute
     double pursuit_share = 0.15;      // fraction of time in smooth pursuit
     double pupil_mm = 3.5;
     double distortion = 0.0;  // strength S of the raw-output distortion above, 0..3 (0: off)
+    gaze::MainSequence main_sequence = gaze::kPublished;  // the population's curve
 
     // The device clock as the raw samples report it.
-    int counter_bits = 32;       // 16, 32 or 64
-    double tick_hz = 1e6;        // counter ticks per second
-    double drift_ppm = 0.0;      // device oscillator error: ticks run fast by this much
+    int counter_bits = 32;        // 16, 32 or 64
+    double tick_hz = 1e6;         // counter ticks per second
+    double drift_ppm = 0.0;       // device oscillator error: ticks run fast by this much
     int64_t counter_offset = -1;  // counter value at t = 0; -1: wrap ~10 s into the run
     int64_t start_ns = 0;         // t_true_ns of the first sample (e.g. CLOCK_MONOTONIC at open)
 };
@@ -92,6 +97,8 @@ public:
     bool has_target() const { return target_held_; }
 
     const SimConfig& config() const { return config_; }
+    // This subject's main sequence (the population curve scaled per seed).
+    const gaze::MainSequence& subject_main_sequence() const { return subject_; }
     uint64_t samples_generated() const { return index_; }
 
 private:
@@ -101,9 +108,9 @@ private:
         std::array<uint64_t, 4> s{};
         explicit Rng(uint64_t seed);
         uint64_t next_u64();
-        double uniform();                        // [0, 1)
+        double uniform();  // [0, 1)
         double uniform(double lo, double hi);
-        double normal();                         // N(0, 1), Box-Muller
+        double normal();  // N(0, 1), Box-Muller
     };
 
     void start_next_phase(int64_t t_ns);
@@ -123,6 +130,8 @@ private:
 
     SimConfig config_;
     Rng rng_;
+    Rng shape_rng_;  // subject and saccade-shape draws (main sequence spread, skew)
+    gaze::MainSequence subject_;
     uint64_t index_ = 0;
     int64_t prev_t_ns_ = 0;
     uint64_t counter_offset_ = 0;
@@ -160,9 +169,5 @@ private:
 // The documented raw-output distortion of strength `s` (see the top of this file) for one eye,
 // on normalized display coordinates.
 void distort(double s, bool right_eye, double& x, double& y);
-
-// Main sequence from ../shared/data/README.md (A in degrees).
-double main_sequence_peak_velocity_dps(double amplitude_deg);
-double main_sequence_duration_ms(double amplitude_deg);
 
 }  // namespace fovea::drivers::sim

@@ -28,34 +28,32 @@ Action TransferSet::on_complete(std::size_t slot, TransferStatus status, std::si
     assert(slots_[slot] && "completion for a transfer not in flight");
     slots_[slot] = false;
     switch (status) {
-    case TransferStatus::kCompleted:
-        ++counters_.completed;
-        counters_.bytes += bytes;
-        consecutive_errors_ = 0;
-        break;
-    case TransferStatus::kTimedOut:
-        ++counters_.timeouts;
-        counters_.bytes += bytes;  // a timed-out transfer may still carry data
-        break;
-    case TransferStatus::kOverflow:
-        ++counters_.overflows;  // the device sent more than the buffer: data lost, resubmit
-        break;
-    case TransferStatus::kStall:
-        ++counters_.stalls;
-        if (++consecutive_errors_ > max_errors_) gone_ = true;
-        if (!stopping_ && !gone_) return Action::kClearHaltAndResubmit;
-        break;
-    case TransferStatus::kError:
-        ++counters_.errors;
-        if (++consecutive_errors_ > max_errors_) gone_ = true;
-        break;
-    case TransferStatus::kNoDevice:
-        gone_ = true;
-        break;
-    case TransferStatus::kCancelled:
-        ++counters_.cancelled;
-        if (!stopping_) gone_ = true;  // cancelled behind our back: the session is over
-        break;
+        case TransferStatus::kCompleted:
+            ++counters_.completed;
+            counters_.bytes += bytes;
+            consecutive_errors_ = 0;
+            break;
+        case TransferStatus::kTimedOut:
+            ++counters_.timeouts;
+            counters_.bytes += bytes;  // a timed-out transfer may still carry data
+            break;
+        case TransferStatus::kOverflow:
+            ++counters_.overflows;  // the device sent more than the buffer: data lost, resubmit
+            break;
+        case TransferStatus::kStall:
+            ++counters_.stalls;
+            if (++consecutive_errors_ > max_errors_) gone_ = true;
+            if (!stopping_ && !gone_) return Action::kClearHaltAndResubmit;
+            break;
+        case TransferStatus::kError:
+            ++counters_.errors;
+            if (++consecutive_errors_ > max_errors_) gone_ = true;
+            break;
+        case TransferStatus::kNoDevice: gone_ = true; break;
+        case TransferStatus::kCancelled:
+            ++counters_.cancelled;
+            if (!stopping_) gone_ = true;  // cancelled behind our back: the session is over
+            break;
     }
     if (stopping_ || gone_) return Action::kRetire;
     return Action::kResubmit;

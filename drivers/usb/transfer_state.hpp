@@ -11,7 +11,13 @@ namespace fovea::drivers::usb {
 
 // Mirrors libusb_transfer_status.
 enum class TransferStatus : uint8_t {
-    kCompleted, kError, kTimedOut, kCancelled, kStall, kNoDevice, kOverflow
+    kCompleted,
+    kError,
+    kTimedOut,
+    kCancelled,
+    kStall,
+    kNoDevice,
+    kOverflow
 };
 
 enum class Action : uint8_t {

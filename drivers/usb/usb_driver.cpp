@@ -10,9 +10,9 @@
 #include <optional>
 #include <thread>
 
-#include <boost/asio/post.hpp>
 #include <libusb.h>
 #include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
 
 #include "serial/protocol.hpp"
 #include "usb/frame_stream.hpp"
@@ -28,13 +28,13 @@ std::shared_ptr<spdlog::logger> logger() {
 
 TransferStatus to_status(libusb_transfer_status s) {
     switch (s) {
-    case LIBUSB_TRANSFER_COMPLETED: return TransferStatus::kCompleted;
-    case LIBUSB_TRANSFER_TIMED_OUT: return TransferStatus::kTimedOut;
-    case LIBUSB_TRANSFER_CANCELLED: return TransferStatus::kCancelled;
-    case LIBUSB_TRANSFER_STALL: return TransferStatus::kStall;
-    case LIBUSB_TRANSFER_NO_DEVICE: return TransferStatus::kNoDevice;
-    case LIBUSB_TRANSFER_OVERFLOW: return TransferStatus::kOverflow;
-    default: return TransferStatus::kError;
+        case LIBUSB_TRANSFER_COMPLETED: return TransferStatus::kCompleted;
+        case LIBUSB_TRANSFER_TIMED_OUT: return TransferStatus::kTimedOut;
+        case LIBUSB_TRANSFER_CANCELLED: return TransferStatus::kCancelled;
+        case LIBUSB_TRANSFER_STALL: return TransferStatus::kStall;
+        case LIBUSB_TRANSFER_NO_DEVICE: return TransferStatus::kNoDevice;
+        case LIBUSB_TRANSFER_OVERFLOW: return TransferStatus::kOverflow;
+        default: return TransferStatus::kError;
     }
 }
 
@@ -118,9 +118,9 @@ public:
             stream_.feed({t->buffer, static_cast<std::size_t>(t->actual_length)}, monotonic_ns(),
                          device_id_, pending_);
         switch (set_->on_complete(slot, st, static_cast<std::size_t>(t->actual_length))) {
-        case Action::kResubmit: submit(slot); break;
-        case Action::kClearHaltAndResubmit: clear_halt_.push_back(slot); break;
-        case Action::kRetire: break;
+            case Action::kResubmit: submit(slot); break;
+            case Action::kClearHaltAndResubmit: clear_halt_.push_back(slot); break;
+            case Action::kRetire: break;
         }
     }
 
@@ -181,8 +181,9 @@ private:
     bool connect() {
         libusb_device** list = nullptr;
         const ssize_t n = libusb_get_device_list(ctx_, &list);
-        if (n < 0) return set_error(std::string("libusb_get_device_list: ") +
-                                    libusb_error_name(static_cast<int>(n)));
+        if (n < 0)
+            return set_error(std::string("libusb_get_device_list: ") +
+                             libusb_error_name(static_cast<int>(n)));
         libusb_device* found = nullptr;
         for (ssize_t i = 0; i < n; ++i) {
             libusb_device_descriptor d{};
@@ -220,8 +221,7 @@ private:
         for (int i = 0; i < config->bNumInterfaces && iface_ < 0; ++i) {
             if (config->interface[i].num_altsetting < 1) continue;
             const libusb_interface_descriptor& alt = config->interface[i].altsetting[0];
-            if (cfg_.interface >= 0 ? alt.bInterfaceNumber != cfg_.interface
-                                    : alt.bInterfaceClass != LIBUSB_CLASS_VENDOR_SPEC)
+            if (cfg_.interface >= 0 ? alt.bInterfaceNumber != cfg_.interface : alt.bInterfaceClass != LIBUSB_CLASS_VENDOR_SPEC)
                 continue;
             for (int e = 0; e < alt.bNumEndpoints; ++e) {
                 const libusb_endpoint_descriptor& ep = alt.endpoint[e];
@@ -229,7 +229,8 @@ private:
                 if (type != LIBUSB_TRANSFER_TYPE_BULK && type != LIBUSB_TRANSFER_TYPE_INTERRUPT)
                     continue;
                 if (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN) {
-                    if (ep_in_ == 0 && (cfg_.endpoint == 0 || ep.bEndpointAddress == cfg_.endpoint)) {
+                    if (ep_in_ == 0 &&
+                        (cfg_.endpoint == 0 || ep.bEndpointAddress == cfg_.endpoint)) {
                         ep_in_ = ep.bEndpointAddress;
                         interrupt_ = type == LIBUSB_TRANSFER_TYPE_INTERRUPT;
                     }
@@ -241,11 +242,13 @@ private:
             if (ep_in_ != 0) iface_ = alt.bInterfaceNumber;
         }
         libusb_free_config_descriptor(config);
-        if (iface_ < 0) return set_error("no vendor-class interface with a bulk/interrupt IN endpoint");
+        if (iface_ < 0)
+            return set_error("no vendor-class interface with a bulk/interrupt IN endpoint");
         detached_ = false;
         if (libusb_kernel_driver_active(handle_, iface_) == 1) {
             if (const int rc = libusb_detach_kernel_driver(handle_, iface_); rc != 0)
-                return set_error(std::string("detaching the kernel driver: ") + libusb_error_name(rc));
+                return set_error(std::string("detaching the kernel driver: ") +
+                                 libusb_error_name(rc));
             detached_ = true;
         }
         if (const int rc = libusb_claim_interface(handle_, iface_); rc != 0) {
@@ -281,8 +284,10 @@ private:
 
     void submit(std::size_t slot) {
         const int rc = libusb_submit_transfer(transfers_[slot]);
-        if (rc == 0) set_->on_submitted(slot);
-        else set_->on_submit_failed(slot, rc == LIBUSB_ERROR_NO_DEVICE);
+        if (rc == 0)
+            set_->on_submitted(slot);
+        else
+            set_->on_submit_failed(slot, rc == LIBUSB_ERROR_NO_DEVICE);
     }
 
     void request_hello() {
@@ -290,8 +295,8 @@ private:
         serial::encode_hello_request(host_seq_++, bytes);
         int sent = 0;
         if (out_interrupt_)
-            libusb_interrupt_transfer(handle_, ep_out_, bytes.data(), static_cast<int>(bytes.size()),
-                                      &sent, 100);
+            libusb_interrupt_transfer(handle_, ep_out_, bytes.data(),
+                                      static_cast<int>(bytes.size()), &sent, 100);
         else
             libusb_bulk_transfer(handle_, ep_out_, bytes.data(), static_cast<int>(bytes.size()),
                                  &sent, 100);
@@ -344,7 +349,8 @@ private:
         const auto c = stream_.counters();
         std::lock_guard lk(stats_mu_);
         stats_.samples = c.samples;
-        stats_.frames_dropped = c.dropped + overflow_base_ + (set_ ? set_->counters().overflows : 0);
+        stats_.frames_dropped =
+            c.dropped + overflow_base_ + (set_ ? set_->counters().overflows : 0);
         stats_.frames_lost = c.lost;
         stats_.resyncs = c.resyncs;
         stats_.bytes = bytes_base_ + (set_ ? set_->counters().bytes : 0);
@@ -433,9 +439,9 @@ Result<std::vector<UsbDeviceInfo>> list_usb_devices() {
     if (n >= 0) libusb_free_device_list(list, 1);
     libusb_exit(ctx);
     if (n < 0)
-        return make_error(std::string("libusb_get_device_list: ") +
-                              libusb_error_name(static_cast<int>(n)),
-                          static_cast<int>(n));
+        return make_error(
+            std::string("libusb_get_device_list: ") + libusb_error_name(static_cast<int>(n)),
+            static_cast<int>(n));
     return out;
 }
 

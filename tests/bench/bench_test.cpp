@@ -5,13 +5,16 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../support/vk_test_device.hpp"
 #include "bench_analysis.hpp"
+#include "bench_scene.hpp"
 #include "fovea/vk/device.hpp"
 #include "fovea/vk/foveator.hpp"
 
@@ -21,29 +24,31 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 TEST(ParetoFront, KeepsOnlyUndominatedPointsByIncreasingCost) {
-    // cost (ms), quality (dB)
-    const std::vector<CostQuality> p = {
-        {10, 30},   // 0: front (cheapest)
-        {20, 25},   // 1: dominated by 0
-        {30, 40},   // 2: front
-        {30, 35},   // 3: same cost as 2, worse
-        {25, 40},   // 4: dominates 2 (cheaper, as good)
-        {50, 45},   // 5: front (best quality)
-        {5, kNaN},  // 6: not finite, never on the front
-        {60, 45},   // 7: dominated by 5 (same quality, dearer)
+    // cost (ms), error (mean FLIP)
+    const std::vector<CostError> p = {
+        {10, 0.30},  // 0: front (cheapest)
+        {20, 0.35},  // 1: dominated by 0
+        {30, 0.20},  // 2: dominated by 4
+        {30, 0.25},  // 3: same cost as 2, worse
+        {25, 0.20},  // 4: front: cheaper than 2, as good
+        {50, 0.15},  // 5: front (lowest error)
+        {5, kNaN},   // 6: not finite, never on the front
+        {60, 0.15},  // 7: dominated by 5 (same error, dearer)
     };
     EXPECT_EQ(pareto_front(p), (std::vector<size_t>{0, 4, 5}));
 }
 
 TEST(ParetoFront, DuplicatesKeepTheFirstAndEmptyInputGivesEmptyFront) {
-    EXPECT_EQ(pareto_front({{1, 1}, {1, 1}, {2, 2}}), (std::vector<size_t>{0, 2}));
+    EXPECT_EQ(pareto_front({{1, 2}, {1, 2}, {2, 1}}), (std::vector<size_t>{0, 2}));
     EXPECT_TRUE(pareto_front({}).empty());
-    EXPECT_TRUE(pareto_front({{kNaN, 1}, {1, INFINITY}}).empty());
+    EXPECT_TRUE(pareto_front({{kNaN, 1}, {1, INFINITY}, {2, kNaN}}).empty());
+    // -inf (minus the PSNR of an identical image) is the best error there is.
+    EXPECT_EQ(pareto_front({{2, -INFINITY}, {1, -40}, {3, -50}}), (std::vector<size_t>{1, 0}));
 }
 
 TEST(ParetoFront, SinglePointAndMonotoneTradeOffAreAllOnTheFront) {
     EXPECT_EQ(pareto_front({{3, 7}}), (std::vector<size_t>{0}));
-    EXPECT_EQ(pareto_front({{4, 40}, {1, 10}, {3, 30}, {2, 20}}),
+    EXPECT_EQ(pareto_front({{4, 0.1}, {1, 0.4}, {3, 0.2}, {2, 0.3}}),
               (std::vector<size_t>{1, 3, 2, 0}));
 }
 
@@ -93,11 +98,13 @@ TEST(Luminance, Rec709OnDisplayValues) {
 }
 
 TEST(BenchCli, QuickJsonCarriesEveryMethodAndKey) {
-    if (!vk::Device::create_headless({}))
-        GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)";
-    const auto dir = std::filesystem::temp_directory_path() / ("fovea_bench_test_" + std::to_string(::getpid()));
+    const vk::test::TestDevice probe = vk::test::make_test_device();
+    FOVEA_ASSERT_TEST_DEVICE(probe);
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("fovea_bench_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
-    const std::string cmd = std::string(FOVEA_BINARY_DIR) + "/tools/fovea bench --quick --json "
+    const std::string cmd = std::string(FOVEA_BINARY_DIR) + "/tools/fovea bench --quick --json " +
+                            (vk::test::kValidation ? "--validation " : "") +
                             "--resolution 64x36 --no-model --csv " + (dir / "b.csv").string() +
                             " --png " + (dir / "b.png").string() + " 2>/dev/null";
     FILE* p = popen(cmd.c_str(), "r");
@@ -109,27 +116,123 @@ TEST(BenchCli, QuickJsonCarriesEveryMethodAndKey) {
     const nlohmann::json j = nlohmann::json::parse(out);  // exactly one object, nothing else
     EXPECT_EQ(j["resolution"], nlohmann::json({64, 36}));
     EXPECT_EQ(j["frames"], 2);
+    int methods_with_error = 0;
     for (const auto& name : vk::Foveator::methods()) {
         SCOPED_TRACE(name);
         ASSERT_TRUE(j["methods"].contains(name));
         const auto& m = j["methods"][name];
-        for (const char* key : {"ms_per_frame", "ms_p95", "shaded_fraction", "psnr_fovea_db",
-                                "psnr_bands_db", "ssim_bands", "atd", "atd_no_taa",
-                                "atd_full_taa", "skipped_tiles", "reused_tiles"})
+        for (const char* key :
+             {"ms_per_frame", "ms_p95", "shaded_fraction", "flip_mean", "flip_bands",
+              "flip_mean_67ppd", "flip_bands_67ppd", "psnr_bands_pooled", "psnr_db",
+              "psnr_fovea_db", "ssim_bands", "atd", "atd_no_taa", "atd_full_taa", "tflip",
+              "temporal", "skipped_tiles", "reused_tiles"})
             EXPECT_TRUE(m.contains(key)) << key;
         EXPECT_GT(m["ms_per_frame"].get<double>(), 0.0);
         EXPECT_GT(m["shaded_fraction"].get<double>(), 0.0);
-        EXPECT_EQ(m["psnr_bands_db"].size(), size_t(vk::kBandCount));
+        EXPECT_EQ(m["flip_bands"].size(), size_t(vk::kBandCount));
+        EXPECT_EQ(m["psnr_bands_pooled"].size(), size_t(vk::kBandCount));
         EXPECT_EQ(m["ssim_bands"].size(), size_t(vk::kBandCount));
         EXPECT_TRUE(m["atd"].is_number());
         EXPECT_TRUE(m["atd_no_taa"].is_number());
+        EXPECT_TRUE(m["temporal"]["taa"]["atd_settled"].is_number());
+        EXPECT_TRUE(m["temporal"]["no_taa"]["tflip_cut"].is_number());
+        EXPECT_FALSE(m.contains("psnr_bands_db")) << "the frame-averaged dB figure is gone";
+        const double flip = m["flip_mean"].get<double>();
+        EXPECT_GE(flip, 0.0);
+        EXPECT_LT(flip, 1.0);
+        if (name == "full") {
+            EXPECT_EQ(flip, 0.0);                 // the reference itself
+            EXPECT_TRUE(m["psnr_db"].is_null());  // +inf: identical, not capped
+        }
+        if (flip > 0) {
+            ++methods_with_error;
+            EXPECT_TRUE(m["psnr_db"].is_number()) << "FLIP saw a difference, PSNR must too";
+        }
     }
+    // 64x36 pixels cover ~1.3 ppd: cps shades all of it at full rate, the others do not.
+    EXPECT_GE(methods_with_error, 2);
     EXPECT_EQ(j["methods"]["full"]["shaded_fraction"], 1.0);
-    // every method with and without TAA, and a front drawn from them
-    EXPECT_EQ(j["variants"].size(), 2 * vk::Foveator::methods().size());
+    EXPECT_TRUE(j["methods"]["cps"]["saccade_recovery_frames"].is_number());
+    EXPECT_FALSE(j.contains("model")) << "--no-model";
+    // every method with and without TAA, and the two temporal runs; fronts drawn from them
+    EXPECT_EQ(j["variants"].size(), 4 * vk::Foveator::methods().size());
     EXPECT_FALSE(j["pareto_front"].empty());
+    EXPECT_FALSE(j["pareto_front_psnr"].empty());
     EXPECT_GT(std::filesystem::file_size(dir / "b.png"), 1000u);
+    EXPECT_GT(std::filesystem::file_size(dir / "b_psnr.png"), 1000u);
     std::filesystem::remove_all(dir);
+    // With --validation, fovea bench exits 1 on any validation error (checked by pclose above).
+    if (!vk::test::kValidation) GTEST_SKIP() << vk::test::kValidationOff;
+}
+
+// The forward paths' reference goes in once, before the first of them (bench_sweep pairs
+// results[k] with {"full"} + methods).
+TEST(SceneBench, ForwardReferenceBeforeTheFirstForwardPathOnly) {
+    using V = std::vector<std::string>;
+    EXPECT_EQ(SceneBench::with_references({"cps", "layers"}), (V{"cps", "layers"}));
+    EXPECT_EQ(SceneBench::with_references({"cps", "forward-layers", "kfr", "post-only"}),
+              (V{"cps", "full-forward", "forward-layers", "kfr", "post-only"}));
+    EXPECT_EQ(SceneBench::with_references({"post-only", "full-forward"}),
+              (V{"full-forward", "post-only"}));
+}
+
+// --scene: the same sweep through the glTF viewer's host code on the real sample models: every
+// method on the deferred path and the viewer's forward paths, each against its full-rate frame.
+TEST(BenchCli, SceneQuickJsonCarriesEveryPathAgainstItsFullRateFrame) {
+    const std::string data = FOVEA_SHARED_DATA_DIR;
+    if (!std::filesystem::exists(data + "/scenes/WaterBottle/glTF/WaterBottle.gltf"))
+        GTEST_SKIP() << "no sample models under " << data << "/scenes";
+    const vk::test::TestDevice probe = vk::test::make_test_device();
+    FOVEA_ASSERT_TEST_DEVICE(probe);
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("fovea_bench_scene_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string cmd =
+        std::string(FOVEA_BINARY_DIR) + "/tools/fovea bench --quick --json " +
+        (vk::test::kValidation ? "--validation " : "") + "--scene " + FOVEA_SOURCE_DIR +
+        "/sdk/examples/gltf_viewer/scenes/sample_models.toml --data-dir " + data +
+        " --resolution 128x72 --no-model --csv " + (dir / "s.csv").string() + " --png " +
+        (dir / "s.png").string() + " 2>/dev/null";
+    FILE* p = popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof(buf), p)) out.append(buf, n);
+    ASSERT_EQ(pclose(p), 0) << cmd;
+    const nlohmann::json j = nlohmann::json::parse(out);
+    EXPECT_EQ(j["resolution"], nlohmann::json({128, 72}));
+    EXPECT_NE(j["header"].dump().find("sample_models.toml: 7 models"), std::string::npos);
+    // path 1's methods against "full", the forward paths against "full-forward"
+    for (const char* name : {"full", "full-forward"}) {
+        ASSERT_TRUE(j["methods"].contains(name)) << name;
+        EXPECT_EQ(j["methods"][name]["shaded_fraction"], 1.0) << name;
+    }
+    std::vector<std::string> names = vk::Foveator::methods();
+    names.insert(names.end(), {"forward-layers", "post-only"});
+    for (const auto& name : names) {
+        SCOPED_TRACE(name);
+        ASSERT_TRUE(j["methods"].contains(name));
+        const auto& m = j["methods"][name];
+        EXPECT_GT(m["ms_per_frame"].get<double>(), 0.0);
+        EXPECT_TRUE(m["atd"].is_number());
+        EXPECT_EQ(m["psnr_bands_pooled"].size(), size_t(vk::kBandCount));
+        EXPECT_EQ(m["flip_bands"].size(), size_t(vk::kBandCount));
+        EXPECT_GE(m["flip_mean"].get<double>(), 0.0);
+        EXPECT_LE(m["flip_mean"].get<double>(), 1.0);
+    }
+    // (on a frame this small the layers' texels outnumber the pixels: shaded_fraction > 1)
+    EXPECT_GT(j["methods"]["forward-layers"]["shaded_fraction"].get<double>(), 0.0);
+    // pooled over the frames; null = +inf, the fovea identical to the full-rate frame
+    for (const char* name : {"forward-layers", "cps"}) {
+        const auto& fovea_db = j["methods"][name]["psnr_fovea_db"];
+        EXPECT_TRUE(fovea_db.is_null() || fovea_db.get<double>() > 40.0) << name << fovea_db;
+    }
+    EXPECT_LT(j["methods"]["cps"]["shaded_fraction"].get<double>(), 1.0);
+    // rate-image runs where the device has VRS, else says why
+    EXPECT_TRUE(j["methods"].contains("rate-image") || j["errors"].contains("rate-image"));
+    std::filesystem::remove_all(dir);
+    // With --validation, fovea bench exits 1 on any validation error (checked by pclose above).
+    if (!vk::test::kValidation) GTEST_SKIP() << vk::test::kValidationOff;
 }
 
 }  // namespace

@@ -80,9 +80,7 @@ TEST_F(FrameLatencyDaemon, StatusCarriesTheReportedRenderHops) {
     for (int i = 0; i < 200 && !client; ++i) {
         try {
             client = std::make_unique<fovea::Client>(instance_);
-        } catch (const fovea::ClientError&) {
-            std::this_thread::sleep_for(25ms);
-        }
+        } catch (const fovea::ClientError&) { std::this_thread::sleep_for(25ms); }
     }
     ASSERT_TRUE(client) << "no gaze ring for instance " << instance_;
 
@@ -150,7 +148,8 @@ TEST_F(FrameLatencyDaemon, StatusCarriesTheReportedRenderHops) {
 
 TEST_F(FrameLatencyDaemon, MalformedReportIsRefusedWithTheDaemonsReason) {
     auto r = fovea::daemon::control_request(
-        socket_, {{"cmd", "latency.report"}, {"hops", {{"publish_to_read", {{"count", 3}}}}}}, 5000);
+        socket_, {{"cmd", "latency.report"}, {"hops", {{"publish_to_read", {{"count", 3}}}}}},
+        5000);
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(r->value("ok", true)) << r->dump();
     EXPECT_NE(r->value("error", std::string()).find("buckets"), std::string::npos) << r->dump();

@@ -47,7 +47,8 @@ void full_frame(FrameLatency& fl, uint64_t index, int64_t base) {
 }
 
 void expect_near_ns(int64_t got, int64_t want) {
-    EXPECT_NEAR(static_cast<double>(got), static_cast<double>(want), 0.008 * static_cast<double>(want));
+    EXPECT_NEAR(static_cast<double>(got), static_cast<double>(want),
+                0.008 * static_cast<double>(want));
 }
 
 TEST(FrameLatency, HopNamesContinueTheDaemonsHops) {
@@ -71,10 +72,11 @@ TEST(FrameLatency, EveryHopGetsItsOwnHistogram) {
     const struct {
         fovea_render_hop hop;
         int64_t ns;
-    } want[] = {{FOVEA_HOP_PUBLISH_TO_READ, 1 * kMs},        {FOVEA_HOP_READ_TO_FRAME_BEGIN, 2 * kMs},
-                {FOVEA_HOP_FRAME_BEGIN_TO_SUBMIT, 4 * kMs},  {FOVEA_HOP_SUBMIT_TO_PRESENT, 16 * kMs},
-                {FOVEA_HOP_CAPTURE_TO_FRAME_BEGIN, 5 * kMs}, {FOVEA_HOP_PUBLISH_TO_FRAME_BEGIN, 3 * kMs},
-                {FOVEA_HOP_CAPTURE_TO_PRESENT, 25 * kMs}};
+    } want[] = {
+        {FOVEA_HOP_PUBLISH_TO_READ, 1 * kMs},        {FOVEA_HOP_READ_TO_FRAME_BEGIN, 2 * kMs},
+        {FOVEA_HOP_FRAME_BEGIN_TO_SUBMIT, 4 * kMs},  {FOVEA_HOP_SUBMIT_TO_PRESENT, 16 * kMs},
+        {FOVEA_HOP_CAPTURE_TO_FRAME_BEGIN, 5 * kMs}, {FOVEA_HOP_PUBLISH_TO_FRAME_BEGIN, 3 * kMs},
+        {FOVEA_HOP_CAPTURE_TO_PRESENT, 25 * kMs}};
     for (const auto& w : want) {
         SCOPED_TRACE(fovea_render_hop_name(w.hop));
         const fovea_hop_stats s = fl.hop(w.hop);
@@ -134,10 +136,10 @@ TEST(FrameLatency, StaleFramesAgainstTheThreshold) {
     FrameLatency fl;
     EXPECT_EQ(fl.counters().stale_threshold_ns, FOVEA_STALE_GAZE_DEFAULT_NS);
     const auto r = gaze(1, 100 * kMs, 101 * kMs);
-    EXPECT_EQ(fl.frame_begin(&r, 110 * kMs), 10 * kMs);   // 10 ms: fresh
-    EXPECT_EQ(fl.frame_begin(&r, 140 * kMs), 40 * kMs);   // exactly the threshold: fresh
-    EXPECT_EQ(fl.frame_begin(&r, 141 * kMs), 41 * kMs);   // stale
-    EXPECT_EQ(fl.frame_begin(nullptr, 150 * kMs), -1);    // no gaze at all: stale
+    EXPECT_EQ(fl.frame_begin(&r, 110 * kMs), 10 * kMs);  // 10 ms: fresh
+    EXPECT_EQ(fl.frame_begin(&r, 140 * kMs), 40 * kMs);  // exactly the threshold: fresh
+    EXPECT_EQ(fl.frame_begin(&r, 141 * kMs), 41 * kMs);  // stale
+    EXPECT_EQ(fl.frame_begin(nullptr, 150 * kMs), -1);   // no gaze at all: stale
     auto c = fl.counters();
     EXPECT_EQ(c.frames, 4u);
     EXPECT_EQ(c.stale_frames, 2u);
@@ -222,8 +224,7 @@ public:
                 send(c, reply.data(), reply.size(), MSG_NOSIGNAL);
             } else {
                 char b;  // hold the connection until the client gives up
-                while (recv(c, &b, 1, 0) > 0) {
-                }
+                while (recv(c, &b, 1, 0) > 0) {}
             }
             close(c);
         });
@@ -269,7 +270,8 @@ TEST(FrameLatency, ReportIsTheRequestFoveadParses) {
         EXPECT_EQ(static_cast<int64_t>(h.max_ns()), s.max_ns);
     }
     // the gaze-age hops travel in "hops" too, in the same histogram form
-    for (const char* name : {"capture_to_frame_begin", "publish_to_frame_begin", "capture_to_present"}) {
+    for (const char* name :
+         {"capture_to_frame_begin", "publish_to_frame_begin", "capture_to_present"}) {
         fovea::LatencyHistogram h;
         ASSERT_TRUE(fovea::record::histogram_from_json(j["hops"][name], h)) << name;
         EXPECT_EQ(h.count(), 50u) << name;
@@ -278,6 +280,21 @@ TEST(FrameLatency, ReportIsTheRequestFoveadParses) {
     EXPECT_EQ(j["stale_frames"], 1);
     EXPECT_EQ(j["frames_without_gaze"], 1);
     EXPECT_EQ(j["stale_threshold_ns"], FOVEA_STALE_GAZE_DEFAULT_NS);
+}
+
+// Found by tests/fuzz/fuzz_latency_json: a report whose min is above its max was accepted, and
+// percentile() then clamped into an empty range (undefined behaviour).
+TEST(FrameLatency, HistogramWithMinAboveMaxIsRefused) {
+    fovea::LatencyHistogram h;
+    const auto j = nlohmann::json::parse(
+        R"({"count":1,"negative":0,"sum_ns":123456,"min_ns":246912,"max_ns":123456,)"
+        R"("buckets":[[1000,1]]})");
+    EXPECT_FALSE(fovea::record::histogram_from_json(j, h));
+    EXPECT_EQ(h.count(), 0u);
+    auto ok = j;
+    ok["min_ns"] = 123456;
+    EXPECT_TRUE(fovea::record::histogram_from_json(ok, h));
+    EXPECT_EQ(h.percentile(0.5), 123456u);
 }
 
 TEST(FrameLatency, WideDistributionsAreCoarsenedToFitTheDaemonsLimit) {
@@ -343,7 +360,8 @@ TEST(FrameLatency, ReadersRunAlongsideTheRenderThread) {
     FrameLatency fl;
     std::atomic<bool> done{false};
     std::thread render([&] {
-        for (uint64_t i = 0; i < 20000; ++i) full_frame(fl, i, static_cast<int64_t>(i + 1) * 30 * kMs);
+        for (uint64_t i = 0; i < 20000; ++i)
+            full_frame(fl, i, static_cast<int64_t>(i + 1) * 30 * kMs);
         done = true;
     });
     uint64_t last = 0;

@@ -33,7 +33,8 @@ struct CalibrationCommands : ::testing::Test {
 
     void SetUp() override {
         static int serial = 0;
-        const std::string instance = "cc" + std::to_string(getpid()) + "-" + std::to_string(++serial);
+        const std::string instance =
+            "cc" + std::to_string(getpid()) + "-" + std::to_string(++serial);
         dir = fs::temp_directory_path() / ("fv-" + instance);
         fs::create_directories(dir);
         setenv("FOVEA_RUNTIME_DIR", dir.c_str(), 1);
@@ -61,7 +62,9 @@ struct CalibrationCommands : ::testing::Test {
         auto r = daemon->start();
         ASSERT_TRUE(r.ok()) << r.error().message;
         daemon->add_published_observer(
-            [this](const gaze::GazeSample&, const fovea_gaze_record& rec) { published.push_back(rec); });
+            [this](const gaze::GazeSample&, const fovea_gaze_record& rec) {
+                published.push_back(rec);
+            });
     }
 
     json call(const json& req, const PeerCredentials& peer = kAdmin) {
@@ -116,10 +119,12 @@ TEST_F(CalibrationCommands, GarbageGetsOneClearErrorAndChangesNothing) {
         {{{"cmd", "calibrate.point"}}, "needs a target"},
         {{{"cmd", "calibrate.point"}, {"x", "left"}, {"y", 0.5}}, "\"x\" must be a finite number"},
         {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", -0.5}}, "must be on the display"},
-        {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}, {"samples", "many"}}, "must be an array"},
+        {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}, {"samples", "many"}},
+         "must be an array"},
         {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}, {"samples", {{{"left", {1}}}}}},
          "samples[0].left must be [x, y]"},
-        {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}, {"samples", {1, 2}}}, "must be an object"},
+        {{{"cmd", "calibrate.point"}, {"x", 0.5}, {"y", 0.5}, {"samples", {1, 2}}},
+         "must be an object"},
         {{{"cmd", "calibrate.finish"}, {"store", "yes"}}, "\"store\" must be true or false"},
         {{{"cmd", "calibrate.finish"}}, "at least 6 distinct targets, got 0"},
     };
@@ -135,8 +140,9 @@ TEST_F(CalibrationCommands, GarbageGetsOneClearErrorAndChangesNothing) {
 }
 
 TEST_F(CalibrationCommands, MutatingCommandsNeedAnAdmin) {
-    for (const char* cmd : {"calibrate.start", "calibrate.point", "calibrate.finish", "calibrate.apply",
-                            "calibrate.clear", "calibrate.cancel", "calibrate.target"}) {
+    for (const char* cmd :
+         {"calibrate.start", "calibrate.point", "calibrate.finish", "calibrate.apply",
+          "calibrate.clear", "calibrate.cancel", "calibrate.target"}) {
         const json r = call({{"cmd", cmd}, {"user", "ana"}}, kStranger);
         EXPECT_NE(r.value("error", "").find("permission denied"), std::string::npos) << cmd;
     }
@@ -153,7 +159,9 @@ TEST_F(CalibrationCommands, SamplesInTheRequestFitStoreApplyAndReload) {
     ASSERT_TRUE(call({{"cmd", "calibrate.start"}, {"user", "ana"}})["ok"]);
     for (double y : {0.1, 0.5, 0.9}) {
         for (double x : {0.1, 0.5, 0.9}) {
-            const json r = call({{"cmd", "calibrate.point"}, {"x", x}, {"y", y},
+            const json r = call({{"cmd", "calibrate.point"},
+                                 {"x", x},
+                                 {"y", y},
                                  {"samples", simulated_samples(sim, x, y)}});
             ASSERT_TRUE(r["ok"]) << r;
             EXPECT_EQ(r["samples"], 300);
@@ -220,8 +228,9 @@ TEST_F(CalibrationCommands, LivePointsCollectFromTheDeviceAfterTheSettleTime) {
     EXPECT_EQ(p["devices_following"], 1);
     EXPECT_NEAR(p["x"].get<double>(), 0.5, 1e-12);
     // A second point while the first collects is refused.
-    EXPECT_NE(call({{"cmd", "calibrate.point"}, {"x", 0.1}, {"y", 0.1}}).value("error", "").find(
-                  "still collecting"),
+    EXPECT_NE(call({{"cmd", "calibrate.point"}, {"x", 0.1}, {"y", 0.1}})
+                  .value("error", "")
+                  .find("still collecting"),
               std::string::npos);
     json point;
     for (int i = 0; i < 40; ++i) {

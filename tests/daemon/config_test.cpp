@@ -28,7 +28,8 @@ rate_hz = 500
 [[device]]
 driver = "serial"
 port = "/dev/ttyACM0"
-)", "x.toml");
+)",
+                          "x.toml");
     ASSERT_TRUE(c.ok()) << c.error().message;
     EXPECT_EQ(c->instance, "lab");
     EXPECT_EQ(c->ring_slots, 1024u);
@@ -45,6 +46,16 @@ TEST(DaemonConfig, SyntaxErrorNamesLineAndColumn) {
     EXPECT_EQ(c.error().message.find('\n'), std::string::npos);
 }
 
+// Found by tests/fuzz/fuzz_daemon_config: toml++ quotes the bytes it choked on, newline included,
+// so the error was two lines.
+TEST(DaemonConfig, SyntaxErrorIsOneLineWhateverBytesItQuotes) {
+    auto r = parse_config("#]\nslots =n\n[\x01", "f.toml");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+    for (char ch : r.error().message) EXPECT_GE(static_cast<unsigned char>(ch), 0x20) << int(ch);
+    EXPECT_EQ(r.error().message.rfind("f.toml:2:", 0), 0u) << r.error().message;
+}
+
 TEST(DaemonConfig, UnknownKeyAndBadValuesAreNamed) {
     auto c = parse_config("instanse = \"x\"\n", "a.toml");
     ASSERT_FALSE(c.ok());
@@ -58,6 +69,38 @@ TEST(DaemonConfig, UnknownKeyAndBadValuesAreNamed) {
     c = parse_config("device = 3\n", "a.toml");
     ASSERT_FALSE(c.ok());
     EXPECT_NE(c.error().message.find("[[device]]"), std::string::npos);
+}
+
+TEST(DaemonConfig, HmdDisplayProfileSetsTheDisplayAndTheRingsEyeGeometry) {
+    auto c = parse_config("display_profile = \"generic-2x1440x1600\"\n", "x.toml");
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    EXPECT_EQ(c->display_profile, "generic-2x1440x1600");
+    EXPECT_EQ(c->display.width_px, 1440);
+    EXPECT_DOUBLE_EQ(c->display.distance_m, 1.0);  // the virtual image plane at 1 m
+    EXPECT_FLOAT_EQ(c->eyes.ipd_m, 0.063f);
+    // Asymmetric views: 52 deg temporal, 46 deg nasal (left eye: temporal is left).
+    EXPECT_FLOAT_EQ(c->eyes.fov_deg[0][0], 52.0f);
+    EXPECT_FLOAT_EQ(c->eyes.fov_deg[0][1], 46.0f);
+    EXPECT_FLOAT_EQ(c->eyes.fov_deg[1][0], 46.0f);
+    EXPECT_FLOAT_EQ(c->eyes.fov_deg[1][1], 52.0f);
+    auto monitor = parse_config("display_profile = \"desktop-24in-60cm\"\n", "x.toml");
+    ASSERT_TRUE(monitor.ok()) << monitor.error().message;
+    EXPECT_EQ(monitor->eyes.ipd_m, 0.0f);  // a monitor has no eye views to publish
+    EXPECT_EQ(parse_config("", "x.toml")->eyes.ipd_m, 0.0f);
+}
+
+TEST(DaemonConfig, DisplayProfileErrorsAreOneLineNamingTheKey) {
+    auto unknown = parse_config("display_profile = \"no-such-hmd\"\n", "x.toml");
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().message.rfind("x.toml: display_profile: unknown display profile "
+                                            "'no-such-hmd'",
+                                            0),
+              0u)
+        << unknown.error().message;
+    auto both = parse_config("display_profile = \"generic-2x1440x1600\"\n[display]\n", "x.toml");
+    ASSERT_FALSE(both);
+    EXPECT_NE(both.error().message.find("not both"), std::string::npos);
+    EXPECT_FALSE(parse_config("display_profile = 3\n", "x.toml"));
 }
 
 TEST(DaemonConfig, PublishModeDefaultsToLiveAndIsValidated) {

@@ -18,15 +18,24 @@ struct ControlFixture : ::testing::Test {
     PeerCredentials stranger{2, 65534, 65534};
 
     void SetUp() override {
-        server.add_command("echo", [](const json& r, const PeerCredentials&) {
-            return json{{"echo", r.value("text", "")}};
-        }, false, "echo");
-        server.add_command("boom", [](const json&, const PeerCredentials&) -> json {
-            throw std::runtime_error("it broke");
-        }, false, "throws");
-        server.add_command("poke", [](const json&, const PeerCredentials&) {
-            return json{{"poked", true}};
-        }, true, "mutating");
+        server.add_command(
+            "echo",
+            [](const json& r, const PeerCredentials&) {
+                return json{{"echo", r.value("text", "")}};
+            },
+            false, "echo");
+        server.add_command(
+            "boom",
+            [](const json&, const PeerCredentials&) -> json {
+                throw std::runtime_error("it broke");
+            },
+            false, "throws");
+        server.add_command(
+            "poke",
+            [](const json&, const PeerCredentials&) {
+                return json{{"poked", true}};
+            },
+            true, "mutating");
     }
 };
 

@@ -103,6 +103,32 @@ TEST_F(DaemonTest, WatchPrintsHundredSamplesWithinTwoSeconds) {
                 std::chrono::duration<double, std::milli>(elapsed).count());
 }
 
+// A reader outlives a fovead killed with -9: `fovea watch` follows the restarted daemon's new
+// ring (its indices start again near 0) instead of exiting as if the tracker had stopped.
+TEST_F(DaemonTest, WatchFollowsAFoveadRestartedAfterKillDashNine) {
+    const auto lines_within = [](Proc& p, std::size_t from, int n, std::chrono::milliseconds t) {
+        const auto end = std::chrono::steady_clock::now() + t;
+        while (count_lines(p.out().substr(std::min(from, p.out().size()))) < n &&
+               std::chrono::steady_clock::now() < end)
+            std::this_thread::sleep_for(10ms);
+        return count_lines(p.out().substr(std::min(from, p.out().size()))) >= n;
+    };
+    auto d = start_daemon();
+    auto w = cli({"watch", "--wait", "10"});
+    ASSERT_TRUE(lines_within(*w, 0, 200, 5s * kSlowdown)) << w->err();
+    kill(d->pid, SIGKILL);
+    d->wait();
+    std::this_thread::sleep_for(300ms);  // the reader notices the dead writer's silence
+    const std::size_t before = w->out().rfind('\n') + 1;
+    auto again = start_daemon();
+    ASSERT_TRUE(lines_within(*w, before, 50, 5s * kSlowdown))
+        << "fovea watch printed nothing from the restarted fovead: " << w->err();
+    const std::string after = w->out().substr(before);
+    const uint64_t index = std::stoull(after.substr(after.find('#') + 1));
+    EXPECT_LT(index, 5000u) << "not the new ring's numbering: " << after.substr(0, 200);
+    EXPECT_EQ(waitpid(w->pid, nullptr, WNOHANG), 0) << "fovea watch exited: " << w->err();
+}
+
 TEST_F(DaemonTest, StatusReportsDevicesRingAndRates) {
     auto d = start_daemon();
     std::this_thread::sleep_for(600ms);
@@ -174,14 +200,14 @@ TEST_F(DaemonTest, LivePublicationSkipsTheLookaheadFinalWaitsForIt) {
     EXPECT_NEAR(live.lookahead_ms, 350.0, 2.0);  // the detector's default bound
 
     // A shorter bound from the configuration keeps the final wait measurable in this test.
-    const PublishModeLatency final_ =
-        measure_publish_mode(*this, "final", "lookahead_ms = 120\n");
+    const PublishModeLatency final_ = measure_publish_mode(*this, "final", "lookahead_ms = 120\n");
     EXPECT_EQ(final_.mode, "final");
     EXPECT_NEAR(final_.lookahead_ms, 120.0, 2.0);
     EXPECT_FALSE(final_.ring_flags & FOVEA_FLAG_PROVISIONAL);
     // Held for the look-ahead: within 20% of it (plus scheduling slack on a loaded machine).
     EXPECT_GT(final_.receive_to_processed_p50_us, 800.0 * final_.lookahead_ms);
-    EXPECT_LT(final_.receive_to_processed_p50_us, 1200.0 * final_.lookahead_ms + 20000.0 * kSlowdown);
+    EXPECT_LT(final_.receive_to_processed_p50_us,
+              1200.0 * final_.lookahead_ms + 20000.0 * kSlowdown);
     std::printf("receive_to_processed p50: live %.1f us, final %.1f us (look-ahead %.1f ms)\n",
                 live.receive_to_processed_p50_us, final_.receive_to_processed_p50_us,
                 final_.lookahead_ms);
@@ -270,9 +296,7 @@ TEST_F(DaemonTest, RecordWritesEverySampleAsCsv) {
     uint64_t prev = 0, rows = 0;
     while (std::getline(in, line)) {
         const uint64_t idx = std::stoull(line.substr(0, line.find(',')));
-        if (rows++) {
-            EXPECT_EQ(idx, prev + 1) << "a sample is missing";
-        }
+        if (rows++) { EXPECT_EQ(idx, prev + 1) << "a sample is missing"; }
         prev = idx;
     }
     EXPECT_GT(rows, 500u);  // the simulated tracker runs at 1 kHz by default

@@ -1,6 +1,7 @@
 // Parser and generator throughput: serial frame decoding (clean and with 30 % garbage bursts),
 // Gazepoint element stream + record decoding, simulated tracker samples.
-//   build-*/tests/drivers/drivers_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only
+//   build-*/tests/drivers/drivers_bench --benchmark_repetitions=5
+//   --benchmark_report_aggregates_only
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -48,13 +49,14 @@ void BM_GazepointDecode(benchmark::State& state) {
     for (int i = 0; i < 20000; ++i) {
         const auto f = sim.next();
         char buf[512];
-        std::snprintf(buf, sizeof buf,
-                      "<REC CNT=\"%d\" TIME_TICK=\"%llu\" LPOGX=\"%.5f\" LPOGY=\"%.5f\" LPOGV=\"1\" "
-                      "RPOGX=\"%.5f\" RPOGY=\"%.5f\" RPOGV=\"1\" BPOGX=\"0.5\" BPOGY=\"0.5\" "
-                      "BPOGV=\"1\" LPUPILD=\"0.003500\" LPUPILV=\"1\" RPUPILD=\"0.003600\" "
-                      "RPUPILV=\"1\" />\r\n",
-                      i, static_cast<unsigned long long>(f.raw.device_ticks), f.raw.left.x,
-                      f.raw.left.y, f.raw.right.x, f.raw.right.y);
+        std::snprintf(
+            buf, sizeof buf,
+            "<REC CNT=\"%d\" TIME_TICK=\"%llu\" LPOGX=\"%.5f\" LPOGY=\"%.5f\" LPOGV=\"1\" "
+            "RPOGX=\"%.5f\" RPOGY=\"%.5f\" RPOGV=\"1\" BPOGX=\"0.5\" BPOGY=\"0.5\" "
+            "BPOGV=\"1\" LPUPILD=\"0.003500\" LPUPILV=\"1\" RPUPILD=\"0.003600\" "
+            "RPUPILV=\"1\" />\r\n",
+            i, static_cast<unsigned long long>(f.raw.device_ticks), f.raw.left.x, f.raw.left.y,
+            f.raw.right.x, f.raw.right.y);
         text += buf;
     }
     uint64_t samples = 0;

@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cstring>
-#include <future>
 #include <filesystem>
+#include <future>
 #include <mutex>
 #include <random>
 #include <thread>
@@ -138,7 +138,8 @@ TEST(OpenGaze, StreamResyncsAfterGarbageAndNeverLosesAGoodRecord) {
     std::vector<uint64_t> cnts;
     for (const auto& e : all) {
         std::optional<uint64_t> cnt;
-        if (decode_record(e, ServerClock{1e7}, GazeSource::kEyes, &cnt) && cnt) cnts.push_back(*cnt);
+        if (decode_record(e, ServerClock{1e7}, GazeSource::kEyes, &cnt) && cnt)
+            cnts.push_back(*cnt);
     }
     ASSERT_EQ(cnts.size(), static_cast<size_t>(sent));
     for (int i = 0; i < sent; ++i) ASSERT_EQ(cnts[static_cast<size_t>(i)], uint64_t(i));
@@ -212,7 +213,8 @@ bool wait_for(Pred pred, std::chrono::milliseconds timeout = 3000ms) {
 
 int open_fd_count() {
     int n = 0;
-    for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) n += !e.path().empty();
+    for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd"))
+        n += !e.path().empty();
     return n;
 }
 
@@ -231,10 +233,12 @@ TEST(GazepointDriverLive, StreamsFromTheLoopbackServerWithDeviceClockAndPupil) {
     auto drv = make_gazepoint_driver(cfg, 5);
     Collector col;
     driver_loop.sync([&] {
-        ASSERT_TRUE(drv->open(driver_loop.io, [&](const gaze::RawSample& s) {
-                           std::lock_guard lock(col.mutex);
-                           col.samples.push_back(s);
-                       }).ok());
+        ASSERT_TRUE(drv->open(driver_loop.io,
+                              [&](const gaze::RawSample& s) {
+                                  std::lock_guard lock(col.mutex);
+                                  col.samples.push_back(s);
+                              })
+                        .ok());
     });
     ASSERT_TRUE(wait_for([&] { return col.count() >= 600; }));
     driver_loop.sync([&] { drv->close(); });
@@ -278,10 +282,12 @@ TEST(GazepointDriverLive, CountsDropsByCntAndSkipsGarbage) {
     auto drv = make_gazepoint_driver(cfg, 1);
     Collector col;
     driver_loop.sync([&] {
-        ASSERT_TRUE(drv->open(driver_loop.io, [&](const gaze::RawSample& s) {
-                           std::lock_guard lock(col.mutex);
-                           col.samples.push_back(s);
-                       }).ok());
+        ASSERT_TRUE(drv->open(driver_loop.io,
+                              [&](const gaze::RawSample& s) {
+                                  std::lock_guard lock(col.mutex);
+                                  col.samples.push_back(s);
+                              })
+                        .ok());
     });
     ASSERT_TRUE(wait_for([&] { return col.count() >= 1000; }));
     SimServer::Stats ss;
@@ -320,10 +326,12 @@ TEST(GazepointDriverLive, ReconnectsAfterServerRestarts50TimesWithoutLeaks) {
     auto drv = make_gazepoint_driver(cfg, 1);
     Collector col;
     driver_loop.sync([&] {
-        ASSERT_TRUE(drv->open(driver_loop.io, [&](const gaze::RawSample& s) {
-                           std::lock_guard lock(col.mutex);
-                           col.samples.push_back(s);
-                       }).ok());
+        ASSERT_TRUE(drv->open(driver_loop.io,
+                              [&](const gaze::RawSample& s) {
+                                  std::lock_guard lock(col.mutex);
+                                  col.samples.push_back(s);
+                              })
+                        .ok());
     });
     int fds_first = 0;
     uint64_t sent = 0;
@@ -341,9 +349,7 @@ TEST(GazepointDriverLive, ReconnectsAfterServerRestarts50TimesWithoutLeaks) {
         ASSERT_TRUE(wait_for([&] { return col.count() == sent; }, 500ms))
             << "cycle " << cycle << ": " << col.count() << "/" << sent;
         if (cycle == 1) fds_first = open_fd_count();
-        if (cycle == 49) {
-            EXPECT_EQ(open_fd_count(), fds_first);
-        }
+        if (cycle == 49) { EXPECT_EQ(open_fd_count(), fds_first); }
         server_loop.sync([&] {
             server = std::make_unique<SimServer>(server_loop.io, opt);
             ASSERT_TRUE(server->start().ok());

@@ -1,8 +1,10 @@
-// Replay: both recording formats, timing (original, scaled, full speed), loop, real lund2013 data.
+// The replay driver: timing (original, scaled, full speed), loop, formats through
+// fovea::import (tested on their own in tests/import), a real EyeLink file end to end.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -11,7 +13,6 @@
 
 #include <boost/asio/io_context.hpp>
 
-#include "replay/recording.hpp"
 #include "replay/replay_driver.hpp"
 
 namespace fovea::drivers::replay {
@@ -30,9 +31,10 @@ const char* kLund =
     "7000,24,21,1024,768,3\n";
 
 std::string fovea_csv(int n, double rate) {
-    std::string s = "# fovea gaze recording v1 instance=t\n"
-                    "index,t_capture_ns,left_x,left_y,left_pupil_mm,left_valid,right_x,right_y,"
-                    "right_pupil_mm,right_valid,event\n";
+    std::string s =
+        "# fovea gaze recording v1 instance=t\n"
+        "index,t_capture_ns,left_x,left_y,left_pupil_mm,left_valid,right_x,right_y,"
+        "right_pupil_mm,right_valid,event\n";
     for (int i = 0; i < n; ++i) {
         const auto t = static_cast<int64_t>(5'000'000'000 + i * 1e9 / rate);
         s += std::to_string(i) + "," + std::to_string(t) + ",0.5,0.25,3.5,1,0.51,0.26,3.6," +
@@ -42,68 +44,10 @@ std::string fovea_csv(int n, double rate) {
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      (name + "-" + std::to_string(::getpid()) + ".csv");
+    const auto path =
+        std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()) + ".csv");
     std::ofstream(path) << text;
     return path.string();
-}
-
-TEST(Recording, ReadsLund2013WithLostSamplesLabelsAndBadRows) {
-    auto r = parse_recording(kLund);
-    ASSERT_TRUE(r.ok()) << r.error().message;
-    EXPECT_EQ(r->format, "lund2013");
-    ASSERT_EQ(r->samples.size(), 4u);
-    EXPECT_EQ(r->skipped_rows, 2u);
-    EXPECT_EQ(r->display.width_px, 1024);
-    EXPECT_DOUBLE_EQ(r->display.distance_m, 0.67);
-    EXPECT_DOUBLE_EQ(r->samples[0].left.x, 0.5);
-    EXPECT_DOUBLE_EQ(r->samples[0].left.y, 0.5);
-    EXPECT_FALSE(r->samples[1].left.valid);  // 0,0 is lost tracking
-    EXPECT_FALSE(r->samples[0].right.valid);  // monocular
-    EXPECT_EQ(r->samples[1].truth, gaze::Event::kBlink);
-    EXPECT_EQ(r->samples[3].truth, gaze::Event::kPso);
-    EXPECT_EQ(r->t_ns[3], 6'000'000);
-    EXPECT_EQ(r->samples[2].device_ticks, 5000u);
-    EXPECT_EQ(r->clock.tick_hz, 1e6);
-}
-
-TEST(Recording, Lund2013NanTimestampsUseTheNominalRate) {
-    auto r = parse_recording(
-        "# sampFreq=500 screenRes_px=1024,768\nt_us,pupil_h,pupil_v,x_px,y_px,label\n"
-        "nan,1,1,10,10,1\nnan,1,1,11,10,1\nnan,1,1,12,10,1\n");
-    ASSERT_TRUE(r.ok());
-    ASSERT_EQ(r->t_ns.size(), 3u);
-    EXPECT_EQ(r->t_ns[2], 4'000'000);
-    EXPECT_DOUBLE_EQ(r->nominal_rate_hz, 500.0);
-}
-
-TEST(Recording, ReadsFoveaCsvByColumnName) {
-    auto r = parse_recording(fovea_csv(100, 250));
-    ASSERT_TRUE(r.ok()) << r.error().message;
-    EXPECT_EQ(r->format, "fovea-csv");
-    ASSERT_EQ(r->samples.size(), 100u);
-    EXPECT_TRUE(r->binocular);
-    EXPECT_DOUBLE_EQ(r->nominal_rate_hz, 250.0);
-    EXPECT_EQ(r->samples[1].device_ticks, 5'004'000'000u);
-    EXPECT_FALSE(r->samples[0].right.valid);
-    EXPECT_TRUE(r->samples[1].right.valid);
-    EXPECT_DOUBLE_EQ(r->samples[1].right.pupil_mm, 3.6);
-    EXPECT_EQ(r->samples[1].truth, gaze::Event::kSaccade);
-    // Columns in another order still read by name.
-    auto r2 = parse_recording("# fovea x\nleft_valid,left_y,left_x,t_capture_ns\n1,0.2,0.1,100\n");
-    ASSERT_TRUE(r2.ok());
-    EXPECT_DOUBLE_EQ(r2->samples[0].left.x, 0.1);
-}
-
-TEST(Recording, ClearErrorsForUnknownOrBrokenFiles) {
-    EXPECT_FALSE(parse_recording("").ok());
-    auto r = parse_recording("hello\n");
-    ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().message.find("unknown format"), std::string::npos);
-    r = parse_recording("# fovea x\nindex,left_x\n");
-    ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().message.find("t_capture_ns"), std::string::npos);
-    EXPECT_FALSE(load_recording("/nonexistent/file.csv").ok());
 }
 
 double replay_seconds(const std::string& path, double speed, std::size_t& count, bool loop = false,
@@ -116,11 +60,13 @@ double replay_seconds(const std::string& path, double speed, std::size_t& count,
     std::vector<uint64_t> ticks;
     const auto t0 = std::chrono::steady_clock::now();
     auto last = t0;
-    EXPECT_TRUE((*d)->open(io, [&](const gaze::RawSample& s) {
-                       ticks.push_back(s.device_ticks);
-                       last = std::chrono::steady_clock::now();
-                       ++count;
-                   }).ok());
+    EXPECT_TRUE((*d)->open(io,
+                           [&](const gaze::RawSample& s) {
+                               ticks.push_back(s.device_ticks);
+                               last = std::chrono::steady_clock::now();
+                               ++count;
+                           })
+                    .ok());
     io.run_for(limit);
     for (size_t i = 1; i < ticks.size(); ++i) EXPECT_GT(ticks[i], ticks[i - 1]);
     (*d)->close();
@@ -161,30 +107,58 @@ TEST(ReplayDriver, BadConfigAndMissingFileAreClearErrors) {
     ASSERT_FALSE(r.ok());
 }
 
-TEST(Recording, ReadsEveryLund2013FileOfTheSharedData) {
-    const std::filesystem::path dir = std::filesystem::path(FOVEA_SHARED_DATA_DIR) / "lund2013";
-    if (!std::filesystem::exists(dir)) GTEST_SKIP() << "no " << dir << " (../shared/data absent)";
-    int files = 0;
-    uint64_t samples = 0, lost = 0, skipped = 0;
-    for (const auto& e : std::filesystem::directory_iterator(dir)) {
-        if (e.path().extension() != ".csv" || e.path().filename().string().starts_with("fix_"))
-            continue;
-        auto r = load_recording(e.path().string());
-        ASSERT_TRUE(r.ok()) << r.error().message;
-        ++files;
-        samples += r->samples.size();
-        skipped += r->skipped_rows;
-        for (const auto& s : r->samples) lost += !s.left.valid;
-        // 500 Hz, or 200 Hz for the files whose timestamps say so.
-        EXPECT_TRUE(std::fabs(r->nominal_rate_hz - 500) < 1 || std::fabs(r->nominal_rate_hz - 200) < 1)
-            << e.path() << " " << r->nominal_rate_hz;
+TEST(ReplayDriver, ReplaysTheLund2013HeaderAndLabels) {
+    const auto path = write_temp("replay-lund", kLund);
+    boost::asio::io_context io;
+    auto d = make_driver(toml::table{{"path", path}, {"speed", 0.0}}, 7);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    EXPECT_DOUBLE_EQ((*d)->describe().nominal_rate_hz, 500.0);
+    EXPECT_EQ((*d)->describe().clock.tick_hz, 1e6);
+    EXPECT_FALSE((*d)->describe().binocular);
+    std::vector<gaze::RawSample> got;
+    ASSERT_TRUE((*d)->open(io, [&](const gaze::RawSample& s) { got.push_back(s); }).ok());
+    io.run_for(200ms);
+    ASSERT_EQ(got.size(), 5u);  // the garbage row is dropped, the backwards one repaired
+    EXPECT_EQ((*d)->stats().frames_dropped, 1u);
+    EXPECT_EQ(got[0].device_id, 7u);
+    EXPECT_DOUBLE_EQ(got[0].left.x, 0.5);
+    EXPECT_FALSE(got[1].left.valid);
+    EXPECT_EQ(got[1].truth, gaze::Event::kBlink);
+    EXPECT_EQ(got[4].truth, gaze::Event::kPso);
+    EXPECT_EQ(got[3].device_ticks, 7000u);
+    std::filesystem::remove(path);
+}
+
+TEST(ReplayDriver, ForcedFormatAndUnknownFormatName) {
+    const auto path = write_temp("replay-force", kLund);
+    auto d = make_driver(toml::table{{"path", path}, {"format", "eyelink-asc"}}, 0);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("not an EyeLink ASC file"), std::string::npos);
+    d = make_driver(toml::table{{"path", path}, {"format", "edf"}}, 0);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("unknown format 'edf' (known: lund2013"), std::string::npos);
+    d = make_driver(toml::table{{"path", path}, {"format", "lund2013"}}, 0);
+    EXPECT_TRUE(d.ok());
+    std::filesystem::remove(path);
+}
+
+TEST(ReplayDriver, EveryEyelinkSampleOfARealFileInOrder) {
+    const std::filesystem::path path = std::filesystem::path(FOVEA_SHARED_DATA_DIR) /
+                                       "recordings/eyelink/mne-testing-data/test_eyelink.asc";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    uint64_t lines = 0;  // sample lines: a digit first, inside START..END
+    {
+        std::ifstream in(path);
+        std::string line;
+        bool block = false;
+        while (std::getline(in, line)) {
+            block = line.rfind("START", 0) == 0 ? true : line.rfind("END", 0) == 0 ? false : block;
+            lines += block && !line.empty() && std::isdigit(static_cast<unsigned char>(line[0]));
+        }
     }
-    EXPECT_EQ(files, 68);  // 34 recordings x 2 coders
-    EXPECT_GT(samples, 200'000u);
-    EXPECT_EQ(skipped, 0u);
-    EXPECT_LT(static_cast<double>(lost) / samples, 0.2);
-    std::printf("lund2013: %d files, %llu samples, %.2f %% lost\n", files,
-                static_cast<unsigned long long>(samples), 100.0 * lost / samples);
+    std::size_t n = 0;
+    replay_seconds(path.string(), 0.0, n, false, 10000ms);  // checks ticks strictly increase
+    EXPECT_EQ(n, lines);
 }
 
 }  // namespace

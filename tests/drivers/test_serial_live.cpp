@@ -25,7 +25,8 @@ using namespace std::chrono_literals;
 
 int open_fd_count() {
     int n = 0;
-    for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) n += !e.path().empty();
+    for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd"))
+        n += !e.path().empty();
     return n;
 }
 
@@ -79,8 +80,8 @@ private:
 void pump(PtyPort& pty, DeviceEmulator& dev, std::vector<uint8_t>& bytes) {
     std::size_t off = 0;
     const auto until = std::chrono::steady_clock::now() + 5s;
-    for (bool first = true; first || (off < bytes.size() && std::chrono::steady_clock::now() < until);
-         first = false) {
+    for (bool first = true;
+         first || (off < bytes.size() && std::chrono::steady_clock::now() < until); first = false) {
         auto n = pty.write({bytes.data() + off, bytes.size() - off});
         ASSERT_TRUE(n.ok()) << n.error().message;
         off += *n;
@@ -130,9 +131,7 @@ TEST(SerialDriverLive, StreamsEveryFrameThroughAPtyAfterTheHelloHandshake) {
     for (size_t i = 0; i < sent.size(); ++i) {
         ASSERT_EQ(got[i].device_ticks, sent[i].device_ticks);
         ASSERT_EQ(got[i].left.valid, sent[i].left.valid);
-        if (sent[i].left.valid) {
-            ASSERT_NEAR(got[i].left.x, sent[i].left.x, 1e-6);
-        }
+        if (sent[i].left.valid) { ASSERT_NEAR(got[i].left.x, sent[i].left.x, 1e-6); }
         ASSERT_EQ(got[i].device_id, 3u);
         ASSERT_GT(got[i].t_receive_ns, 0);
     }
@@ -202,7 +201,8 @@ TEST(SerialDriverLive, UnplugReplug100TimesLosesNothingSentWhileConnectedAndLeak
                 auto r = (*pty)->read(in);
                 if (r.ok() && *r > 0) dev.on_host_bytes({in, *r}, bytes);  // hello request
                 return !bytes.empty();
-            })) << "cycle " << cycle;
+            })) << "cycle "
+                << cycle;
             for (int i = 0; i < 50; ++i) {
                 gaze::RawSample s;
                 dev.next_sample(bytes, &s);
@@ -214,13 +214,12 @@ TEST(SerialDriverLive, UnplugReplug100TimesLosesNothingSentWhileConnectedAndLeak
             pty->reset();  // unplug
             ASSERT_TRUE(h.wait_for([&] { return !h.driver().stats().connected; }));
             if (cycle == 0) fds_after_first = open_fd_count();
-            if (cycle == 99) {
-                EXPECT_EQ(open_fd_count(), fds_after_first) << "fd leak per cycle";
-            }
+            if (cycle == 99) { EXPECT_EQ(open_fd_count(), fds_after_first) << "fd leak per cycle"; }
         }
         const auto got = h.samples();
         ASSERT_EQ(got.size(), sent.size());
-        for (size_t i = 0; i < sent.size(); ++i) ASSERT_EQ(got[i].device_ticks, sent[i].device_ticks);
+        for (size_t i = 0; i < sent.size(); ++i)
+            ASSERT_EQ(got[i].device_ticks, sent[i].device_ticks);
         reconnects = h.driver().stats().reconnects;
         EXPECT_EQ(h.driver().stats().frames_lost, 0u);
     }

@@ -131,13 +131,14 @@ TEST(SerialProtocol, GarbageBetweenFramesNeverLosesAGoodFrame) {
     EXPECT_GE(d.stats().dropped, dev.stats().garbage_bursts * 95 / 100);
     EXPECT_LE(d.stats().resyncs, dev.stats().garbage_bursts);
     EXPECT_GE(d.stats().resyncs, dev.stats().garbage_bursts * 95 / 100);
-    std::printf("garbage: %llu bursts, %llu frames all recovered, %llu chunks dropped, %llu "
-                "resyncs, %llu garbage bytes\n",
-                static_cast<unsigned long long>(dev.stats().garbage_bursts),
-                static_cast<unsigned long long>(got.size()),
-                static_cast<unsigned long long>(d.stats().dropped),
-                static_cast<unsigned long long>(d.stats().resyncs),
-                static_cast<unsigned long long>(d.stats().garbage_bytes));
+    std::printf(
+        "garbage: %llu bursts, %llu frames all recovered, %llu chunks dropped, %llu "
+        "resyncs, %llu garbage bytes\n",
+        static_cast<unsigned long long>(dev.stats().garbage_bursts),
+        static_cast<unsigned long long>(got.size()),
+        static_cast<unsigned long long>(d.stats().dropped),
+        static_cast<unsigned long long>(d.stats().resyncs),
+        static_cast<unsigned long long>(d.stats().garbage_bytes));
 }
 
 TEST(SerialProtocol, ByteAtATimeGivesTheSameFramesAsOneBlock) {
@@ -197,8 +198,8 @@ TEST(SerialProtocol, AnySingleByteErrorIsRejectedNeverDeliveredWrong) {
 }
 
 TEST(SerialProtocol, AbsurdValuesWithAValidCrcAreRejected) {
-    const double bad[][3] = {{NAN, 0.5, 3}, {0.5, INFINITY, 3}, {1e30, 0.5, 3}, {0.5, -5, 3},
-                             {0.5, 0.5, 60}, {0.5, 0.5, 0.1}};
+    const double bad[][3] = {{NAN, 0.5, 3}, {0.5, INFINITY, 3}, {1e30, 0.5, 3},
+                             {0.5, -5, 3},  {0.5, 0.5, 60},     {0.5, 0.5, 0.1}};
     for (const auto& v : bad) {
         auto s = sample(1, v[0], v[1]);
         s.left.pupil_mm = v[2];

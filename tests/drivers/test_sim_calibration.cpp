@@ -29,10 +29,9 @@ TEST(SimCalibration, EyesFixateTheTargetAfterASaccadicLatencyUntilReleased) {
             std::fabs(f.truth.landing_x_deg - 8.0) < 1e-9)
             first_saccade_ms = ms;
         // After latency + saccade + PSO the gaze stays on the target (fixational drift only).
-        if (ms > 400) worst_late = std::max(worst_late, std::hypot(f.truth.x_deg - 8.0, f.truth.y_deg + 4.0));
-        if (ms > 400) {
-            EXPECT_NE(f.truth.event, Event::kPursuit) << ms;
-        }
+        if (ms > 400)
+            worst_late = std::max(worst_late, std::hypot(f.truth.x_deg - 8.0, f.truth.y_deg + 4.0));
+        if (ms > 400) { EXPECT_NE(f.truth.event, Event::kPursuit) << ms; }
     }
     EXPECT_GE(first_saccade_ms, 145);
     EXPECT_LE(first_saccade_ms, 260);

@@ -32,12 +32,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             encode_frame(static_cast<FrameType>(f.type), f.seq, f.payload, bytes);
             FrameDecoder again;
             int n = 0;
-            again.feed(bytes, [&](const Frame& g) {
-                if (g.seq != f.seq || g.type != f.type ||
-                    std::vector<uint8_t>(g.payload.begin(), g.payload.end()) != p)
-                    std::abort();
-                ++n;
-            }, [](FrameDecoder::Reject) { std::abort(); });
+            again.feed(
+                bytes,
+                [&](const Frame& g) {
+                    if (g.seq != f.seq || g.type != f.type ||
+                        std::vector<uint8_t>(g.payload.begin(), g.payload.end()) != p)
+                        std::abort();
+                    ++n;
+                },
+                [](FrameDecoder::Reject) { std::abort(); });
             if (n != 1) std::abort();
             out.push_back(std::move(p));
         };

@@ -21,7 +21,9 @@ for t in "${targets[@]}"; do
           -artifact_prefix="$fuzzdir/artifacts/$t-")
     [ -f "$here/$t.dict" ] && args+=(-dict="$here/$t.dict")
     dirs=("$corpus")
-    [ -d "$here/seeds/$t" ] && dirs+=("$here/seeds/$t")
+    for d in "$here/seeds/$t" "$fuzzdir/shared_seeds/$t" "$fuzzdir/repo_seeds/$t"; do
+        [ -d "$d" ] && dirs+=("$d")
+    done
     echo "== $t: $fuzzdir/$t ${args[*]} ${dirs[*]}"
     start=$(date +%s)
     "$fuzzdir/$t" "${args[@]}" "${dirs[@]}" 2>&1 | tee "$fuzzdir/$t.long.log" |

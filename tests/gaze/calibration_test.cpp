@@ -1,6 +1,7 @@
 #include "fovea/gaze/calibration.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -100,6 +101,26 @@ TEST(Calibration, SaveLoadRoundTripsAndUserPathRejectsTricks) {
     EXPECT_FALSE(Calibration::user_path(dir.string(), "").ok());
     EXPECT_FALSE(Calibration::from_json("{not json", DisplayGeometry{}).ok());
     std::filesystem::remove_all(dir);
+}
+
+// Found by tests/fuzz/fuzz_calibration_json: a fit whose quality figures are unknown (NaN) is
+// written with nulls, which must load back; a target count that is no count is refused.
+TEST(Calibration, UnknownQualityRoundTripsAndBadTargetCountsAreRefused) {
+    Result<CalibrationQuality> q = make_error("unset");
+    const Calibration c = calibrated(false, &q);
+    auto j = nlohmann::json::parse(c.to_json());
+    j["left"].erase("accuracy_deg");
+    auto partial = Calibration::from_json(j.dump(), DisplayGeometry{});
+    ASSERT_TRUE(partial.ok()) << partial.error().message;
+    EXPECT_TRUE(std::isnan(partial->quality().left.accuracy_deg));
+    auto back = Calibration::from_json(partial->to_json(), DisplayGeometry{});
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->to_json(), partial->to_json());
+    for (const char* targets : {"1e300", "-3", "2.5", "\"nine\""}) {
+        auto t = nlohmann::json::parse(c.to_json());
+        t["targets"] = nlohmann::json::parse(targets);
+        EXPECT_FALSE(Calibration::from_json(t.dump(), DisplayGeometry{}).ok()) << targets;
+    }
 }
 
 TEST(Calibration, EvaluateUnmappedMeasuresRawOffsetAndPrecision) {

@@ -88,9 +88,11 @@ TEST(Pipeline, LatestIsTheNewestSampleWithCausalLabels) {
         if (live.event == Event::kSaccade) {
             ++live_saccades;
             live_saccades_in_true_saccade += s.truth[i] == Event::kSaccade;
-            saw_onset_before |= live.saccade.onset_ns > 0 && live.saccade.onset_ns <= live.t_capture_ns;
+            saw_onset_before |=
+                live.saccade.onset_ns > 0 && live.saccade.onset_ns <= live.t_capture_ns;
             if (live.saccade.landing_valid) {
-                EXPECT_TRUE(std::isfinite(live.saccade.landing_x) && std::isfinite(live.saccade.landing_y));
+                EXPECT_TRUE(std::isfinite(live.saccade.landing_x) &&
+                            std::isfinite(live.saccade.landing_y));
             }
         }
     }

@@ -65,19 +65,13 @@ TEST(GazeStability, LongRunStaysFiniteClockDoesNotDriftStateRecovers) {
         r.right = {x + (rnd() - 0.5) * 1e-3, y + (rnd() - 0.5) * 1e-3, 3.0, true};
         bool clean = true;
         switch (i % 10007) {
-            case 11:
-                r.left.x = std::nan("");
-                break;
-            case 23:
-                r.right.y = INFINITY;
-                break;
+            case 11: r.left.x = std::nan(""); break;
+            case 23: r.right.y = INFINITY; break;
             case 37:
                 r.left.x = 1e300;
                 r.right.x = -1e300;
                 break;
-            case 41:
-                r.left.valid = r.right.valid = false;
-                break;
+            case 41: r.left.valid = r.right.valid = false; break;
             case 53:
                 r.device_ticks = (r.device_ticks - 1000) & 0xFFFFFFFFull;
                 clean = false;
@@ -86,8 +80,7 @@ TEST(GazeStability, LongRunStaysFiniteClockDoesNotDriftStateRecovers) {
                 r.t_receive_ns -= 5'000'000;
                 clean = false;
                 break;  // receive goes back
-            default:
-                break;
+            default: break;
         }
         if (i % 10007 == 79) r.device_ticks = (r.device_ticks - 500) & 0xFFFFFFFFull;  // dt = 0-ish
         p.process(r, out);

@@ -28,7 +28,12 @@ std::string parse_error(const DescriptorBuilder& d) {
 
 TEST(HidDescriptor, LogicalMaxByteIsUnsignedWhenMinimumIsNonNegative) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).usage(1).logical_min(0).sized(0x24, 0xFF, 1).report_size(8).report_count(1)
+    d.usage_page(0xFF00)
+        .usage(1)
+        .logical_min(0)
+        .sized(0x24, 0xFF, 1)
+        .report_size(8)
+        .report_count(1)
         .input(kDataVarAbs);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 1u);
@@ -38,8 +43,13 @@ TEST(HidDescriptor, LogicalMaxByteIsUnsignedWhenMinimumIsNonNegative) {
 
 TEST(HidDescriptor, LogicalRangeIsSignedWhenMinimumIsNegative) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).usage(1).sized(0x14, 0x80, 1).sized(0x24, 0x7F, 1).report_size(8)
-        .report_count(1).input(kDataVarAbs);
+    d.usage_page(0xFF00)
+        .usage(1)
+        .sized(0x14, 0x80, 1)
+        .sized(0x24, 0x7F, 1)
+        .report_size(8)
+        .report_count(1)
+        .input(kDataVarAbs);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 1u);
     EXPECT_EQ(desc.fields[0].logical_min, -128);
@@ -50,31 +60,54 @@ TEST(HidDescriptor, LogicalRangeIsSignedWhenMinimumIsNegative) {
 
 TEST(HidDescriptor, FourByteLogicalMaximumAboveInt32IsKept) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).usage(1).logical_min(0).sized(0x24, 0xFFFFFFFF, 4).report_size(32)
-        .report_count(1).input(kDataVarAbs);
+    d.usage_page(0xFF00)
+        .usage(1)
+        .logical_min(0)
+        .sized(0x24, 0xFFFFFFFF, 4)
+        .report_size(32)
+        .report_count(1)
+        .input(kDataVarAbs);
     auto desc = parse_ok(d);
     EXPECT_EQ(desc.fields.at(0).logical_max, 0xFFFFFFFFll);
 }
 
 TEST(HidDescriptor, UnitExponentReadsNibbleAndWholeByteForms) {
     DescriptorBuilder a;
-    a.usage_page(0xFF00).usage(1).sized(0x54, 0x0C, 1).report_size(8).report_count(1)
+    a.usage_page(0xFF00)
+        .usage(1)
+        .sized(0x54, 0x0C, 1)
+        .report_size(8)
+        .report_count(1)
         .input(kDataVarAbs);
     EXPECT_EQ(parse_ok(a).fields.at(0).unit_exponent, -4);
     DescriptorBuilder b;
-    b.usage_page(0xFF00).usage(1).sized(0x54, 0xFC, 1).report_size(8).report_count(1)
+    b.usage_page(0xFF00)
+        .usage(1)
+        .sized(0x54, 0xFC, 1)
+        .report_size(8)
+        .report_count(1)
         .input(kDataVarAbs);
     EXPECT_EQ(parse_ok(b).fields.at(0).unit_exponent, -4);
     DescriptorBuilder c;
-    c.usage_page(0xFF00).usage(1).sized(0x54, 0x03, 1).report_size(8).report_count(1)
+    c.usage_page(0xFF00)
+        .usage(1)
+        .sized(0x54, 0x03, 1)
+        .report_size(8)
+        .report_count(1)
         .input(kDataVarAbs);
     EXPECT_EQ(parse_ok(c).fields.at(0).unit_exponent, 3);
 }
 
 TEST(HidDescriptor, UsageRangeExpandsOverVariablesAndLastUsageRepeats) {
     DescriptorBuilder d;
-    d.usage_page(0x09).usage_min(1).usage_max(3).logical_min(0).logical_max(1).report_size(1)
-        .report_count(3).input(kDataVarAbs);
+    d.usage_page(0x09)
+        .usage_min(1)
+        .usage_max(3)
+        .logical_min(0)
+        .logical_max(1)
+        .report_size(1)
+        .report_count(3)
+        .input(kDataVarAbs);
     d.usage_page(0xFF00).usage(0x10).report_size(4).report_count(3).input(kDataVarAbs);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 6u);
@@ -91,8 +124,14 @@ TEST(HidDescriptor, UsageRangeExpandsOverVariablesAndLastUsageRepeats) {
 
 TEST(HidDescriptor, ArrayKeepsItsUsageRangesAndCount) {
     DescriptorBuilder d;
-    d.usage_page(0x07).usage_min(0).usage_max(101).logical_min(0).logical_max(101).report_size(8)
-        .report_count(6).input(kDataArray);
+    d.usage_page(0x07)
+        .usage_min(0)
+        .usage_max(101)
+        .logical_min(0)
+        .logical_max(101)
+        .report_size(8)
+        .report_count(6)
+        .input(kDataArray);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 1u);
     EXPECT_FALSE(desc.fields[0].is_variable());
@@ -104,9 +143,20 @@ TEST(HidDescriptor, ArrayKeepsItsUsageRangesAndCount) {
 
 TEST(HidDescriptor, PushPopRestoresGlobalState) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).report_size(8).report_count(1).logical_min(0).logical_max(100)
-        .push().report_size(16).usage_page(0xFF01).logical_max(1000).usage(1).input(kDataVarAbs)
-        .pop().usage(2).input(kDataVarAbs);
+    d.usage_page(0xFF00)
+        .report_size(8)
+        .report_count(1)
+        .logical_min(0)
+        .logical_max(100)
+        .push()
+        .report_size(16)
+        .usage_page(0xFF01)
+        .logical_max(1000)
+        .usage(1)
+        .input(kDataVarAbs)
+        .pop()
+        .usage(2)
+        .input(kDataVarAbs);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 2u);
     EXPECT_EQ(desc.fields[0].bit_size, 16u);
@@ -119,9 +169,22 @@ TEST(HidDescriptor, PushPopRestoresGlobalState) {
 
 TEST(HidDescriptor, ReportIdsSplitReportsPerTypeAndId) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).report_size(8).report_count(2).report_id(1).usage(1).input(kDataVarAbs)
-        .report_id(2).report_count(3).usage(2).input(kDataVarAbs).usage(3).feature(kDataVarAbs)
-        .report_id(1).report_count(1).usage(4).input(kDataVarAbs);
+    d.usage_page(0xFF00)
+        .report_size(8)
+        .report_count(2)
+        .report_id(1)
+        .usage(1)
+        .input(kDataVarAbs)
+        .report_id(2)
+        .report_count(3)
+        .usage(2)
+        .input(kDataVarAbs)
+        .usage(3)
+        .feature(kDataVarAbs)
+        .report_id(1)
+        .report_count(1)
+        .usage(4)
+        .input(kDataVarAbs);
     auto desc = parse_ok(d);
     EXPECT_TRUE(desc.numbered);
     ASSERT_NE(desc.find_report(ReportType::kInput, 1), nullptr);
@@ -146,16 +209,33 @@ TEST(HidDescriptor, ShortUsageTakesThePageInEffectAtTheMainItem) {
 
 TEST(HidDescriptor, DelimitedSetUsesItsFirstUsage) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).delimiter(true).usage(7).usage(8).delimiter(false).report_size(8)
-        .report_count(1).input(kDataVarAbs);
+    d.usage_page(0xFF00)
+        .delimiter(true)
+        .usage(7)
+        .usage(8)
+        .delimiter(false)
+        .report_size(8)
+        .report_count(1)
+        .input(kDataVarAbs);
     EXPECT_EQ(parse_ok(d).fields.at(0).usage, make_usage(0xFF00, 7));
 }
 
 TEST(HidDescriptor, CollectionsNestAndFieldsKnowTheirCollection) {
     DescriptorBuilder d;
-    d.usage_page(0x12).usage(0x01).collection(1).usage(0x10).collection(2).usage(0x24)
-        .collection(0).usage(0x21).report_size(8).report_count(1).input(kDataVarAbs)
-        .end_collection().end_collection().end_collection();
+    d.usage_page(0x12)
+        .usage(0x01)
+        .collection(1)
+        .usage(0x10)
+        .collection(2)
+        .usage(0x24)
+        .collection(0)
+        .usage(0x21)
+        .report_size(8)
+        .report_count(1)
+        .input(kDataVarAbs)
+        .end_collection()
+        .end_collection()
+        .end_collection();
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.collections.size(), 3u);
     EXPECT_EQ(desc.collections[2].parent, 1);
@@ -167,14 +247,23 @@ TEST(HidDescriptor, CollectionsNestAndFieldsKnowTheirCollection) {
 
 TEST(HidDescriptor, LongItemsAreSkipped) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).long_item(0xF0, {1, 2, 3, 4, 5}).usage(1).report_size(8).report_count(1)
+    d.usage_page(0xFF00)
+        .long_item(0xF0, {1, 2, 3, 4, 5})
+        .usage(1)
+        .report_size(8)
+        .report_count(1)
         .input(kDataVarAbs);
     EXPECT_EQ(parse_ok(d).fields.size(), 1u);
 }
 
 TEST(HidDescriptor, ConstantPaddingWithoutUsageAddsBitsButNoField) {
     DescriptorBuilder d;
-    d.usage_page(0xFF00).report_size(5).report_count(1).input(kConstVarAbs).usage(1).report_size(3)
+    d.usage_page(0xFF00)
+        .report_size(5)
+        .report_count(1)
+        .input(kConstVarAbs)
+        .usage(1)
+        .report_size(3)
         .input(kDataVarAbs);
     auto desc = parse_ok(d);
     ASSERT_EQ(desc.fields.size(), 1u);
@@ -205,12 +294,22 @@ TEST(HidDescriptor, RejectsMalformedDescriptorsWithTheReason) {
     count.report_count(100000);
     EXPECT_NE(parse_error(count).find("Report Count"), std::string::npos);
     DescriptorBuilder longrep;
-    longrep.usage_page(0xFF00).usage(1).report_size(256).report_count(4096).input(kDataVarAbs)
+    longrep.usage_page(0xFF00)
+        .usage(1)
+        .report_size(256)
+        .report_count(4096)
+        .input(kDataVarAbs)
         .input(kDataVarAbs);
     EXPECT_NE(parse_error(longrep).find("longer than"), std::string::npos);
     DescriptorBuilder early;
-    early.usage_page(0xFF00).usage(1).report_size(8).report_count(1).input(kDataVarAbs)
-        .report_id(3).usage(2).input(kDataVarAbs);
+    early.usage_page(0xFF00)
+        .usage(1)
+        .report_size(8)
+        .report_count(1)
+        .input(kDataVarAbs)
+        .report_id(3)
+        .usage(2)
+        .input(kDataVarAbs);
     EXPECT_NE(parse_error(early).find("precedes the first Report ID"), std::string::npos);
     DescriptorBuilder range;
     range.usage_page(9).usage_min(5).usage_max(2);

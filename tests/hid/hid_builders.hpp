@@ -14,7 +14,9 @@ public:
     DescriptorBuilder& item(uint8_t tag_type, int64_t value, bool is_signed = false) {
         int size = 0;
         if (is_signed) {
-            size = (value >= -128 && value <= 127) ? 1 : (value >= -32768 && value <= 32767) ? 2 : 4;
+            size = (value >= -128 && value <= 127)       ? 1
+                   : (value >= -32768 && value <= 32767) ? 2
+                                                         : 4;
         } else {
             size = value <= 0xFF ? 1 : value <= 0xFFFF ? 2 : 4;
         }
@@ -36,7 +38,9 @@ public:
     DescriptorBuilder& logical_max(int64_t v) { return item(0x24, v, v < 0 || v <= 0x7FFFFFFF); }
     DescriptorBuilder& physical_min(int64_t v) { return item(0x34, v, true); }
     DescriptorBuilder& physical_max(int64_t v) { return item(0x44, v, true); }
-    DescriptorBuilder& unit_exponent(int e) { return sized(0x54, static_cast<uint32_t>(e) & 0xF, 1); }
+    DescriptorBuilder& unit_exponent(int e) {
+        return sized(0x54, static_cast<uint32_t>(e) & 0xF, 1);
+    }
     DescriptorBuilder& unit(uint32_t u) { return item(0x64, u); }
     DescriptorBuilder& report_size(uint32_t s) { return item(0x74, s); }
     DescriptorBuilder& report_id(uint8_t id) { return item(0x84, id); }

@@ -35,33 +35,60 @@ DescriptorBuilder descriptor_a() {
     d.usage_page(0x12).usage(0x01).collection(1);
     d.usage(0x10).collection(2).report_id(0x10);
     d.logical_min(0).logical_max(255).report_size(8).report_count(3).input(kConstVarAbs);  // 0..23
-    d.usage(0x20).report_count(8).input(kDataVarAbs);                                     // 24..87
+    d.usage(0x20).report_count(8).input(kDataVarAbs);                                      // 24..87
     d.report_count(1).report_size(32).logical_min(kMin32).logical_max(kMax32);
-    d.usage(0x24).collection(0).report_count(2).usage(0x21).usage(0x22).input(kDataVarAbs)
+    d.usage(0x24)
+        .collection(0)
+        .report_count(2)
+        .usage(0x21)
+        .usage(0x22)
+        .input(kDataVarAbs)
         .end_collection();  // X 88, Y 120
-    d.usage(0x25).collection(0).report_count(3).usage(0x21).usage(0x22).usage(0x23)
-        .input(kDataVarAbs).end_collection();  // 152, 184, 216
-    d.usage(0x26).collection(0).report_count(3).usage(0x21).usage(0x22).usage(0x23)
-        .input(kDataVarAbs).end_collection();  // 248, 280, 312
+    d.usage(0x25)
+        .collection(0)
+        .report_count(3)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs)
+        .end_collection();  // 152, 184, 216
+    d.usage(0x26)
+        .collection(0)
+        .report_count(3)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs)
+        .end_collection();  // 248, 280, 312
     d.end_collection();
     d.usage(0x11).collection(2).report_id(0x11);
-    d.report_size(8).report_count(1).logical_min(1).logical_max(4).usage(0x100)
-        .feature(kConstVarAbs);  // quality @0
+    d.report_size(8).report_count(1).logical_min(1).logical_max(4).usage(0x100).feature(
+        kConstVarAbs);  // quality @0
     d.report_count(5).report_size(32).logical_min(0).logical_max(kMax32);
     d.usage(0x101).usage(0x102).usage(0x103).usage(0x104).usage(0x105).feature(kConstVarAbs);
     d.end_collection();  // 8, 40, 72, 104, 136
     d.usage(0x12).collection(2).report_id(0x12);
     d.report_size(8).report_count(1).feature(kConstVarAbs);  // padding @0
-    d.report_size(16).logical_min(0).logical_max(0xFFFF).usage(0x200).feature(kConstVarAbs)
-        .usage(0x201).feature(kConstVarAbs);  // 8, 24
+    d.report_size(16)
+        .logical_min(0)
+        .logical_max(0xFFFF)
+        .usage(0x200)
+        .feature(kConstVarAbs)
+        .usage(0x201)
+        .feature(kConstVarAbs);  // 8, 24
     d.report_size(32).logical_min(0).logical_max(kMax32).usage(0x202).feature(kConstVarAbs);  // 40
     d.report_size(16).logical_min(0).logical_max(0xFFFF).usage(0x203).feature(kConstVarAbs);  // 72
-    d.report_size(32).report_count(2).logical_min(0).logical_max(kMax32).usage(0x204).usage(0x205)
+    d.report_size(32)
+        .report_count(2)
+        .logical_min(0)
+        .logical_max(kMax32)
+        .usage(0x204)
+        .usage(0x205)
         .feature(kConstVarAbs);  // 88, 120
     d.end_collection();
     d.usage(0x13).collection(2).report_id(0x13);
-    d.report_size(8).report_count(1).feature(kConstVarAbs);                          // pad @0
-    d.logical_min(0).logical_max(4).usage(0x301).feature(kDataVarAbs);              // 8
+    d.report_size(8).report_count(1).feature(kConstVarAbs);             // pad @0
+    d.logical_min(0).logical_max(4).usage(0x301).feature(kDataVarAbs);  // 8
     d.report_size(16).logical_min(0).logical_max(0x7FFF).usage(0x300).feature(kDataVarAbs);  // 16
     d.end_collection();
     d.end_collection();
@@ -82,12 +109,20 @@ TEST(HidTracker, ReferenceLayoutDecodesGazeEyesTimestampAndFeatures) {
     EXPECT_EQ(ids, (std::vector<uint8_t>{0x11, 0x12, 0x13}));
 
     ReportBuilder caps(23, 0x11);
-    caps.put(0, 8, 1).put(8, 32, 450000).put(40, 32, 650000).put(72, 32, 950000)
-        .put(104, 32, 600000).put(136, 32, 340000);
+    caps.put(0, 8, 1)
+        .put(8, 32, 450000)
+        .put(40, 32, 650000)
+        .put(72, 32, 950000)
+        .put(104, 32, 600000)
+        .put(136, 32, 340000);
     EXPECT_EQ(session->apply_feature(caps.data), 6);
     ReportBuilder conf(19, 0x12);
-    conf.put(8, 16, 0x10AC).put(24, 16, 0xA0C2).put(40, 32, 123456).put(72, 16, 0x2013)
-        .put(88, 32, 531000).put(120, 32, 299000);
+    conf.put(8, 16, 0x10AC)
+        .put(24, 16, 0xA0C2)
+        .put(40, 32, 123456)
+        .put(72, 16, 0x2013)
+        .put(88, 32, 531000)
+        .put(120, 32, 299000);
     EXPECT_EQ(session->apply_feature(conf.data), 6);
     ReportBuilder status(4, 0x13);
     status.put(8, 8, 4).put(16, 16, 90);
@@ -154,15 +189,41 @@ DescriptorBuilder descriptor_b() {
     DescriptorBuilder d;
     d.usage_page(0x12).usage(0x01).collection(1);
     d.usage(0x10).collection(2).report_id(5);
-    d.usage(0x24).collection(0).logical_min(-32768).logical_max(32767).report_size(16)
-        .report_count(2).unit(0x11).unit_exponent(-2).usage(0x21).usage(0x22).input(kDataVarAbs)
+    d.usage(0x24)
+        .collection(0)
+        .logical_min(-32768)
+        .logical_max(32767)
+        .report_size(16)
+        .report_count(2)
+        .unit(0x11)
+        .unit_exponent(-2)
+        .usage(0x21)
+        .usage(0x22)
+        .input(kDataVarAbs)
         .end_collection();  // X 0, Y 16
-    d.unit(0x1001).unit_exponent(-4).logical_min(0).logical_max(kMax32).report_size(32)
-        .report_count(1).usage(0x20).input(kDataVarAbs);  // 32
+    d.unit(0x1001)
+        .unit_exponent(-4)
+        .logical_min(0)
+        .logical_max(kMax32)
+        .report_size(32)
+        .report_count(1)
+        .usage(0x20)
+        .input(kDataVarAbs);  // 32
     d.end_collection();
-    d.usage(0x13).collection(2).report_id(7).unit(0).unit_exponent(0).logical_min(0)
-        .logical_max(255).report_size(8).report_count(1).usage(0x300).feature(kDataVarAbs)
-        .usage(0x301).feature(kDataVarAbs).end_collection();
+    d.usage(0x13)
+        .collection(2)
+        .report_id(7)
+        .unit(0)
+        .unit_exponent(0)
+        .logical_min(0)
+        .logical_max(255)
+        .report_size(8)
+        .report_count(1)
+        .usage(0x300)
+        .feature(kDataVarAbs)
+        .usage(0x301)
+        .feature(kDataVarAbs)
+        .end_collection();
     d.end_collection();
     return d;
 }
@@ -202,15 +263,37 @@ DescriptorBuilder descriptor_c() {
     DescriptorBuilder d;
     d.usage_page(0x12).usage(0x01).collection(1);
     d.usage(0x10).collection(0);
-    d.logical_min(0).logical_max(4094).physical_min(0).physical_max(530000).report_size(12)
-        .report_count(2).usage(0x24).collection(0).usage(0x21).usage(0x22)
-        .input(kDataVarAbs | kNullState).end_collection();  // 0, 12
-    d.report_size(4).report_count(1).input(kConstVarAbs);   // 24..27
-    d.physical_min(0).physical_max(0).logical_min(0).logical_max(0xFFFFF).report_size(20)
-        .usage(0x20).input(kDataVarAbs);  // 28..47
+    d.logical_min(0)
+        .logical_max(4094)
+        .physical_min(0)
+        .physical_max(530000)
+        .report_size(12)
+        .report_count(2)
+        .usage(0x24)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .input(kDataVarAbs | kNullState)
+        .end_collection();                                 // 0, 12
+    d.report_size(4).report_count(1).input(kConstVarAbs);  // 24..27
+    d.physical_min(0)
+        .physical_max(0)
+        .logical_min(0)
+        .logical_max(0xFFFFF)
+        .report_size(20)
+        .usage(0x20)
+        .input(kDataVarAbs);  // 28..47
     d.end_collection();
-    d.usage(0x12).collection(2).logical_min(0).logical_max(kMax32).report_size(32).report_count(2)
-        .usage(0x204).usage(0x205).feature(kDataVarAbs).end_collection();
+    d.usage(0x12)
+        .collection(2)
+        .logical_min(0)
+        .logical_max(kMax32)
+        .report_size(32)
+        .report_count(2)
+        .usage(0x204)
+        .usage(0x205)
+        .feature(kDataVarAbs)
+        .end_collection();
     d.end_collection();
     return d;
 }
@@ -249,29 +332,78 @@ TEST(HidTracker, UnnumberedPackedFieldsWithPhysicalRangeAndNullValues) {
 DescriptorBuilder descriptor_d() {
     DescriptorBuilder d;
     d.usage_page(0x01).usage(0x02).collection(1).report_id(1);
-    d.usage_page(0x09).usage_min(1).usage_max(3).logical_min(0).logical_max(1).report_size(1)
-        .report_count(3).input(kDataVarAbs).report_count(5).input(kConstVarAbs);
-    d.usage_page(0x01).usage(0x30).usage(0x31).logical_min(-127).logical_max(127).report_size(8)
-        .report_count(2).input(kDataVarAbs | 0x04);
+    d.usage_page(0x09)
+        .usage_min(1)
+        .usage_max(3)
+        .logical_min(0)
+        .logical_max(1)
+        .report_size(1)
+        .report_count(3)
+        .input(kDataVarAbs)
+        .report_count(5)
+        .input(kConstVarAbs);
+    d.usage_page(0x01)
+        .usage(0x30)
+        .usage(0x31)
+        .logical_min(-127)
+        .logical_max(127)
+        .report_size(8)
+        .report_count(2)
+        .input(kDataVarAbs | 0x04);
     d.end_collection();
     d.usage_ext(0x12, 0x01).collection(1);
     d.usage_ext(0x12, 0x10).collection(2).report_id(2).usage_page(0x12);
-    d.push().logical_min(0).logical_max(0xFFFF).report_size(16).report_count(1).usage(0x20)
-        .input(kDataVarAbs).pop();  // 0
+    d.push()
+        .logical_min(0)
+        .logical_max(0xFFFF)
+        .report_size(16)
+        .report_count(1)
+        .usage(0x20)
+        .input(kDataVarAbs)
+        .pop();  // 0
     d.long_item(0xF1, {0xDE, 0xAD});
-    d.logical_min(-1000000).logical_max(1000000).report_size(24).report_count(2).usage(0x24)
-        .collection(0).usage(0x21).usage(0x22).input(kDataVarAbs).end_collection();  // 16, 40
+    d.logical_min(-1000000)
+        .logical_max(1000000)
+        .report_size(24)
+        .report_count(2)
+        .usage(0x24)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .input(kDataVarAbs)
+        .end_collection();  // 16, 40
     d.end_collection().end_collection();
     d.usage(0x02).collection(1).usage(0x10).collection(2).report_id(3);
-    d.logical_min(0).sized(0x24, 0xFFFFFFFF, 4).report_size(32).report_count(1).usage(0x20)
+    d.logical_min(0)
+        .sized(0x24, 0xFFFFFFFF, 4)
+        .report_size(32)
+        .report_count(1)
+        .usage(0x20)
         .input(kDataVarAbs);  // 0
     d.logical_min(kMin32).logical_max(kMax32).report_count(3);
-    d.usage(0x27).collection(0).usage(0x21).usage(0x22).usage(0x23).input(kDataVarAbs)
+    d.usage(0x27)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs)
         .end_collection();  // 32, 64, 96
-    d.usage(0x28).collection(0).usage(0x21).usage(0x22).usage(0x23).input(kDataVarAbs)
+    d.usage(0x28)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs)
         .end_collection();  // 128, 160, 192
-    d.unit(0x12).unit_exponent(-3).logical_min(-3142).logical_max(3142).report_size(16)
-        .report_count(3).usage_min(0x29).usage_max(0x2B).input(kDataVarAbs);  // 224, 240, 256
+    d.unit(0x12)
+        .unit_exponent(-3)
+        .logical_min(-3142)
+        .logical_max(3142)
+        .report_size(16)
+        .report_count(3)
+        .usage_min(0x29)
+        .usage_max(0x2B)
+        .input(kDataVarAbs);  // 224, 240, 256
     d.end_collection().end_collection();
     return d;
 }
@@ -332,22 +464,31 @@ TEST(HidTracker, FieldOrderAndReportIdDoNotMatter) {
     int permutations = 0;
     do {
         DescriptorBuilder d;
-        d.usage_page(0x12).usage(0x01).collection(1).usage(0x10).collection(2)
-            .report_id(report_id);
+        d.usage_page(0x12).usage(0x01).collection(1).usage(0x10).collection(2).report_id(report_id);
         uint32_t offsets[4] = {};
         uint32_t bit = 0;
         for (int block : order) {
             offsets[block] = bit;
             if (block == 0) {
-                d.logical_min(0).logical_max(0xFFFF).report_size(16).report_count(1).usage(0x20)
+                d.logical_min(0)
+                    .logical_max(0xFFFF)
+                    .report_size(16)
+                    .report_count(1)
+                    .usage(0x20)
                     .input(kDataVarAbs);
                 bit += 16;
                 continue;
             }
             const uint16_t point = block == 1 ? 0x24 : block == 2 ? 0x25 : 0x26;
             const uint32_t axes = block == 1 ? 2 : 3;
-            d.logical_min(kMin32).logical_max(kMax32).report_size(32).report_count(axes)
-                .usage(point).collection(0).usage(0x21).usage(0x22);
+            d.logical_min(kMin32)
+                .logical_max(kMax32)
+                .report_size(32)
+                .report_count(axes)
+                .usage(point)
+                .collection(0)
+                .usage(0x21)
+                .usage(0x22);
             if (axes == 3) d.usage(0x23);
             d.input(kDataVarAbs).end_collection();
             bit += 32 * axes;
@@ -379,12 +520,31 @@ TEST(HidTracker, FieldOrderAndReportIdDoNotMatter) {
 TEST(HidTracker, NullEyePositionMarksThatEyeInvalid) {
     DescriptorBuilder d;
     d.usage_page(0x12).usage(0x01).collection(1).usage(0x10).collection(2).report_id(9);
-    d.logical_min(0).logical_max(1000000).report_size(32).report_count(2).usage(0x24)
-        .collection(0).usage(0x21).usage(0x22).input(kDataVarAbs | kNullState).end_collection();
-    d.report_count(3).usage(0x25).collection(0).usage(0x21).usage(0x22).usage(0x23)
-        .input(kDataVarAbs | kNullState).end_collection();
-    d.usage(0x26).collection(0).usage(0x21).usage(0x22).usage(0x23)
-        .input(kDataVarAbs | kNullState).end_collection();
+    d.logical_min(0)
+        .logical_max(1000000)
+        .report_size(32)
+        .report_count(2)
+        .usage(0x24)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .input(kDataVarAbs | kNullState)
+        .end_collection();
+    d.report_count(3)
+        .usage(0x25)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs | kNullState)
+        .end_collection();
+    d.usage(0x26)
+        .collection(0)
+        .usage(0x21)
+        .usage(0x22)
+        .usage(0x23)
+        .input(kDataVarAbs | kNullState)
+        .end_collection();
     d.end_collection().end_collection();
     auto session = TrackerSession::create(d.bytes, 500000, 300000);
     ASSERT_TRUE(session.ok());
@@ -402,14 +562,26 @@ TEST(HidTracker, NullEyePositionMarksThatEyeInvalid) {
 
 TEST(HidTracker, DescriptorsWithoutATrackerAreRejectedClearly) {
     DescriptorBuilder mouse;
-    mouse.usage_page(0x01).usage(0x02).collection(1).usage(0x30).report_size(8).report_count(1)
-        .input(kDataVarAbs).end_collection();
+    mouse.usage_page(0x01)
+        .usage(0x02)
+        .collection(1)
+        .usage(0x30)
+        .report_size(8)
+        .report_count(1)
+        .input(kDataVarAbs)
+        .end_collection();
     auto s = TrackerSession::create(mouse.bytes);
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().message.find("no Eye Tracker"), std::string::npos);
     DescriptorBuilder empty_tracker;
-    empty_tracker.usage_page(0x12).usage(0x01).collection(1).usage(0x400).report_size(8)
-        .report_count(1).feature(kDataVarAbs).end_collection();
+    empty_tracker.usage_page(0x12)
+        .usage(0x01)
+        .collection(1)
+        .usage(0x400)
+        .report_size(8)
+        .report_count(1)
+        .feature(kDataVarAbs)
+        .end_collection();
     s = TrackerSession::create(empty_tracker.bytes);
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().message.find("no Tracking Data"), std::string::npos);

@@ -119,8 +119,9 @@ TEST(Vergence, RecoversTheFixatedPoint) {
         ASSERT_TRUE(v.valid);
         for (int i = 0; i < 3; ++i) EXPECT_NEAR(v.point_m[i], target[i], 1e-9);
         EXPECT_NEAR(v.miss_m, 0.0, 1e-9);
-        EXPECT_NEAR(v.distance_m, std::sqrt(target[0] * target[0] + target[1] * target[1] +
-                                            target[2] * target[2]), 1e-9);
+        EXPECT_NEAR(
+            v.distance_m,
+            std::sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]), 1e-9);
     }
     // 64 mm IPD at 0.5 m straight ahead: 2 atan(32/500) = 7.32 degrees.
     const auto v = vergence(*p, normalize({0.032, 0, 0.5}), normalize({-0.032, 0, 0.5}));
@@ -177,8 +178,10 @@ fov_down_deg = 45
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("[left]"), std::string::npos);
     // A declared pixels_per_degree that contradicts the geometry is caught.
-    r = parse_profile("name='m'\nkind='monitor'\nwidth_px=1920\nheight_px=1080\nwidth_m=0.531\n"
-                      "height_m=0.299\ndistance_m=0.6\npixels_per_degree=50\n", "t");
+    r = parse_profile(
+        "name='m'\nkind='monitor'\nwidth_px=1920\nheight_px=1080\nwidth_m=0.531\n"
+        "height_m=0.299\ndistance_m=0.6\npixels_per_degree=50\n",
+        "t");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("pixels_per_degree"), std::string::npos);
     r = parse_profile("name = [", "t");

@@ -24,9 +24,7 @@ void BM_HistogramRecord(benchmark::State& state) {
     fovea::LatencyHistogram h;
     const auto v = latencies();
     std::size_t i = 0;
-    for (auto _ : state) {
-        h.record(v[i++ & 4095]);
-    }
+    for (auto _ : state) { h.record(v[i++ & 4095]); }
     benchmark::DoNotOptimize(h.count());
     state.SetItemsProcessed(state.iterations());
 }
@@ -36,9 +34,7 @@ void BM_HistogramRecordShared(benchmark::State& state) {
     fovea::LatencyHistogram h;
     const auto v = latencies();
     std::size_t i = 0;
-    for (auto _ : state) {
-        h.record_shared(v[i++ & 4095]);
-    }
+    for (auto _ : state) { h.record_shared(v[i++ & 4095]); }
     benchmark::DoNotOptimize(h.count());
     state.SetItemsProcessed(state.iterations());
 }
@@ -56,7 +52,8 @@ void BM_XdfEncodeGazeSecond(benchmark::State& state) {
     const int ch = fovea::record::gaze_channel_count();
     std::vector<double> stamps(1000), rows(1000 * static_cast<std::size_t>(ch));
     for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<double>(i) * 0.25;
-    for (std::size_t i = 0; i < stamps.size(); ++i) stamps[i] = 1000.0 + static_cast<double>(i) * 1e-3;
+    for (std::size_t i = 0; i < stamps.size(); ++i)
+        stamps[i] = 1000.0 + static_cast<double>(i) * 1e-3;
     fovea::record::xdf::ChunkEncoder enc;
     std::size_t bytes = 0;
     for (auto _ : state) {

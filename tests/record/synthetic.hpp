@@ -22,7 +22,8 @@ inline gaze::RawSample synthetic_raw(int i, int64_t t0_ns) {
     r.left.pupil_mm = 3.0 + 1e-4 * i;
     r.right.pupil_mm = 3.1;
     r.device_id = static_cast<uint32_t>(i % 2);
-    r.truth = blink ? gaze::Event::kBlink : (i % 300 < 40 ? gaze::Event::kSaccade : gaze::Event::kFixation);
+    r.truth = blink ? gaze::Event::kBlink
+                    : (i % 300 < 40 ? gaze::Event::kSaccade : gaze::Event::kFixation);
     return r;
 }
 
@@ -57,8 +58,6 @@ inline gaze::GazeSample synthetic_gaze(int i, int64_t t0_ns) {
     return g;
 }
 
-inline bool same_double(double a, double b) {
-    return (std::isnan(a) && std::isnan(b)) || a == b;
-}
+inline bool same_double(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
 
 }  // namespace fovea::record::test

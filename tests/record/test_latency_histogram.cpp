@@ -166,12 +166,33 @@ TEST(LatencyStats, JsonRoundTripKeepsEveryBucket) {
 }
 
 TEST(LatencyStats, FromJsonRejectsInconsistentCounts) {
-    nlohmann::json j = {{"capture_to_receive",
-                         {{"count", 5}, {"sum_ns", 10}, {"min_ns", 1}, {"max_ns", 3},
-                          {"buckets", {{1, 2}}}}}};
+    nlohmann::json j = {
+        {"capture_to_receive",
+         {{"count", 5}, {"sum_ns", 10}, {"min_ns", 1}, {"max_ns", 3}, {"buckets", {{1, 2}}}}}};
     auto r = LatencyStats::from_json(j);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("capture_to_receive"), std::string::npos);
     j["capture_to_receive"]["buckets"] = {{999999, 5}};
     EXPECT_FALSE(LatencyStats::from_json(j).ok());
+}
+
+TEST(LatencyStats, FromJsonRejectsCountsThatAreNotNonNegativeIntegers) {
+    // Found by fuzz_latency_json: get<uint64_t>() of 2.8e42 is undefined behaviour, not an error.
+    const nlohmann::json good = {
+        {"count", 1}, {"sum_ns", 10}, {"min_ns", 10}, {"max_ns", 10}, {"buckets", {{1, 1}}}};
+    fovea::LatencyHistogram h;
+    ASSERT_TRUE(fovea::record::histogram_from_json(good, h).ok());
+    for (const char* key : {"count", "negative", "sum_ns", "min_ns", "max_ns"}) {
+        for (const nlohmann::json& bad : {nlohmann::json(2.8e42), nlohmann::json(-1),
+                                          nlohmann::json(1.5), nlohmann::json("7")}) {
+            nlohmann::json j = good;
+            j[key] = bad;
+            const auto r = fovea::record::histogram_from_json(j, h);
+            EXPECT_FALSE(r.ok()) << key << " = " << bad.dump();
+            if (!r.ok()) { EXPECT_NE(r.error().message.find(key), std::string::npos); }
+        }
+    }
+    nlohmann::json j = good;
+    j["buckets"] = {{1e30, 1}};  // a float bucket index
+    EXPECT_FALSE(fovea::record::histogram_from_json(j, h).ok());
 }

@@ -117,7 +117,8 @@ TEST(Replay, SimRecordingReplaysBitIdenticallyThroughThePipeline) {
     ASSERT_EQ(rec->gaze.size(), live.published.size());
     const auto res = replay(*rec);
     EXPECT_EQ(res.compared, live.published.size());
-    EXPECT_EQ(res.mismatches, 0u) << "first at " << res.first_mismatch << ": " << res.first_mismatch_field;
+    EXPECT_EQ(res.mismatches, 0u) << "first at " << res.first_mismatch << ": "
+                                  << res.first_mismatch_field;
     EXPECT_EQ(res.event_mismatches, 0u);
     EXPECT_GE(res.replayed, res.recorded);
     uint64_t saccades = 0;
@@ -136,7 +137,8 @@ TEST(Replay, PrerollRebuildsTheChainStateOfARecordingStartedLate) {
     EXPECT_EQ(std::count(rec->raw_preroll.begin(), rec->raw_preroll.end(), true), 4000);
     const auto res = replay(*rec);
     EXPECT_EQ(res.compared, live.published.size());
-    EXPECT_EQ(res.mismatches, 0u) << "first at " << res.first_mismatch << ": " << res.first_mismatch_field;
+    EXPECT_EQ(res.mismatches, 0u) << "first at " << res.first_mismatch << ": "
+                                  << res.first_mismatch_field;
 }
 
 TEST(Replay, WithoutPrerollALateRecordingIsReportedAsDifferent) {
@@ -180,8 +182,9 @@ TEST(Export, CsvRowsEqualWhatWasPublished) {
         EXPECT_NE(it, head.end()) << name;
         return static_cast<std::size_t>(it - head.begin());
     };
-    const std::size_t c_cap = col("t_capture_ns"), c_pub = col("t_publish_ns"), c_x = col("combined_x"),
-                      c_ev = col("event"), c_amp = col("saccade_amplitude_deg");
+    const std::size_t c_cap = col("t_capture_ns"), c_pub = col("t_publish_ns"),
+                      c_x = col("combined_x"), c_ev = col("event"),
+                      c_amp = col("saccade_amplitude_deg");
     for (std::size_t i = 0; i < live.published.size(); ++i) {
         const auto& r = rows[i + 1];
         const auto& s = live.published[i];

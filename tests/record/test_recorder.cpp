@@ -1,15 +1,16 @@
-#include <csignal>
-#include <filesystem>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <thread>
 #include <unistd.h>
+#include <csignal>
+#include <filesystem>
+#include <thread>
 
 #include <gtest/gtest.h>
 
 #include "fovea/record/recorder.hpp"
 #include "fovea/record/streams.hpp"
 #include "fovea/record/xdf.hpp"
+#include "libxdf_oracle.hpp"
 #include "synthetic.hpp"
 #include "test_util.hpp"
 
@@ -113,34 +114,20 @@ TEST(Recorder, EverySampleRoundTripsBitExactly) {
         expect_eye(g.combined, h.combined);
         ASSERT_DOUBLE_EQ(lat->value(i, 3), 4.0);  // processed -> publish, µs
     }
-    if (test::have_python()) {
-        const auto j = test::python_read(path, "--require-footers");
-        ASSERT_FALSE(j.is_null());
-        EXPECT_EQ(j["streams"][kRawStreamName]["count"], kN);
-        EXPECT_EQ(j["streams"][kGazeStreamName]["count"], kN);
-        EXPECT_EQ(j["streams"][kLatencyStreamName]["count"], kN);
-        EXPECT_GE(j["boundaries"].get<int>(), 2);
-        EXPECT_EQ(j["streams"][kGazeStreamName]["labels"][25], "event");
-        // the two readers agree on every channel's sum
-        const auto& sums = j["streams"][kGazeStreamName]["sums"];
-        for (int c = 0; c < gz->channel_count; ++c) {
-            double s = 0;
-            for (std::size_t i = 0; i < gz->sample_count(); ++i) {
-                if (!std::isnan(gz->value(i, c))) s += gz->value(i, c);
-            }
-            EXPECT_EQ(sums[c].get<double>(), s) << gz->labels[c];
-        }
-    }
+    EXPECT_GE(f->boundaries, 2u);
+    test::expect_libxdf_agrees(path);
 }
 
 TEST(Recorder, UnwritablePathIsOneClearError) {
     auto r = Recorder::start(options("/nonexistent-dir/x.xdf"));
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("cannot create recording /nonexistent-dir/x.xdf"),
-              std::string::npos) << r.error().message;
+              std::string::npos)
+        << r.error().message;
     auto full = Recorder::start(options("/dev/full"));
     ASSERT_FALSE(full.ok());
-    EXPECT_NE(full.error().message.find("No space left"), std::string::npos) << full.error().message;
+    EXPECT_NE(full.error().message.find("No space left"), std::string::npos)
+        << full.error().message;
 }
 
 TEST(Recorder, DiskFullMidRecordingReportsOnceAndTheCallerKeepsGoing) {
@@ -168,6 +155,12 @@ TEST(Recorder, DiskFullMidRecordingReportsOnceAndTheCallerKeepsGoing) {
         const auto g = synthetic_gaze(i, t0);
         (*rec)->push_gaze(g, g.t_processed_ns, static_cast<uint64_t>(i));
         ++pushed;
+        if (i == 0) {
+            // the first sample on disk before the burst, however slowly the writer starts (ASan)
+            const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+            while ((*rec)->stats().raw_samples == 0 && std::chrono::steady_clock::now() < deadline)
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
         if (i % 2000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(25));
     }
     auto st = (*rec)->stop();
@@ -243,9 +236,5 @@ TEST(Recorder, KillDashNineLosesAtMostTheLastFlushAndRepairClosesTheFile) {
     ASSERT_TRUE(g.ok());
     EXPECT_FALSE(g->truncated);
     EXPECT_EQ(g->find(kRawStreamName)->sample_count(), raw->sample_count());
-    if (test::have_python()) {
-        const auto j = test::python_read(path, "--require-footers");
-        ASSERT_FALSE(j.is_null());
-        EXPECT_EQ(j["streams"][kRawStreamName]["count"].get<std::size_t>(), raw->sample_count());
-    }
+    test::expect_libxdf_agrees(path);
 }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -7,17 +8,18 @@
 #include <gtest/gtest.h>
 
 #include "fovea/record/xdf.hpp"
+#include "libxdf_oracle.hpp"
 #include "test_util.hpp"
 
 namespace xdf = fovea::record::xdf;
-using fovea::record::test::python_read;
+using fovea::record::test::expect_libxdf_agrees;
 using fovea::record::test::scratch_dir;
 
 namespace {
 
 void write_bytes(const std::string& path, const std::vector<uint8_t>& b) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()),
-                                                static_cast<std::streamsize>(b.size()));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
 }
 
 xdf::StreamInfo info(const char* name, xdf::Format f, int channels, double srate) {
@@ -37,8 +39,10 @@ std::vector<uint8_t> make_file(int n, bool footers) {
     e.magic();
     e.file_header();
     const xdf::Format fmts[] = {xdf::Format::kDouble64, xdf::Format::kFloat32, xdf::Format::kInt64,
-                                xdf::Format::kInt32, xdf::Format::kInt16, xdf::Format::kInt8};
-    for (uint32_t id = 0; id < 6; ++id) e.stream_header(id + 10, info(std::string(xdf::format_name(fmts[id])).c_str(), fmts[id], 3, 500));
+                                xdf::Format::kInt32,    xdf::Format::kInt16,   xdf::Format::kInt8};
+    for (uint32_t id = 0; id < 6; ++id)
+        e.stream_header(id + 10,
+                        info(std::string(xdf::format_name(fmts[id])).c_str(), fmts[id], 3, 500));
     for (int a = 0; a < n; a += 100) {
         for (uint32_t id = 0; id < 6; ++id) {
             std::vector<double> st, v;
@@ -54,7 +58,8 @@ std::vector<uint8_t> make_file(int n, bool footers) {
         e.boundary();
     }
     if (footers) {
-        for (uint32_t id = 0; id < 6; ++id) e.stream_footer(id + 10, 1000.0, 1000.0 + (n - 1) * 0.002, n);
+        for (uint32_t id = 0; id < 6; ++id)
+            e.stream_footer(id + 10, 1000.0, 1000.0 + (n - 1) * 0.002, n);
     }
     return e.buffer();
 }
@@ -103,21 +108,11 @@ TEST(Xdf, EveryNumericFormatRoundTrips) {
     }
 }
 
-TEST(Xdf, IndependentPythonReaderAgreesChunkByChunk) {
-    if (!fovea::record::test::have_python()) GTEST_SKIP() << "python3 not found at configure time";
-    const auto dir = scratch_dir("py");
+TEST(Xdf, LibxdfReadsEveryFormatAsWeDo) {
+    const auto dir = scratch_dir("libxdf");
     const std::string path = (dir / "formats.xdf").string();
     write_bytes(path, make_file(1000, true));
-    const auto j = python_read(path, "--require-footers");
-    ASSERT_FALSE(j.is_null());
-    EXPECT_EQ(j["boundaries"], 10);
-    for (const char* name : {"double64", "float32", "int64", "int32", "int16", "int8"}) {
-        const auto& s = j["streams"][name];
-        EXPECT_EQ(s["count"], 1000) << name;
-        EXPECT_EQ(s["channel_count"], 3);
-        EXPECT_EQ(s["last_row"][0], 99);
-        EXPECT_DOUBLE_EQ(s["last_ts"].get<double>(), 1000.0 + 999 * 0.002);
-    }
+    expect_libxdf_agrees(path);
 }
 
 TEST(Xdf, TruncatedAtEveryByteReadsUpToTheLastWholeChunk) {
@@ -144,7 +139,7 @@ TEST(Xdf, TruncatedAtEveryByteReadsUpToTheLastWholeChunk) {
     }
 }
 
-TEST(Xdf, RepairClosesAFileCutAnywhereAndPythonAcceptsIt) {
+TEST(Xdf, RepairClosesAFileCutAnywhereAndLibxdfAgrees) {
     const auto full = make_file(300, false);
     auto whole = xdf::parse(full.data(), full.size());
     ASSERT_TRUE(whole.ok());
@@ -154,10 +149,12 @@ TEST(Xdf, RepairClosesAFileCutAnywhereAndPythonAcceptsIt) {
     }
     const auto dir = scratch_dir("repair");
     std::mt19937 rng(5);
+    int compared = 0;  // cuts libxdf could load
     for (int k = 0; k < 12; ++k) {
         const std::size_t cut = header_end + rng() % (full.size() - header_end);
         const std::string path = (dir / ("cut" + std::to_string(k) + ".xdf")).string();
-        write_bytes(path, std::vector<uint8_t>(full.begin(), full.begin() + static_cast<long>(cut)));
+        write_bytes(path,
+                    std::vector<uint8_t>(full.begin(), full.begin() + static_cast<long>(cut)));
         auto before = xdf::read_file(path);
         ASSERT_TRUE(before.ok());
         auto rep = xdf::repair(path);
@@ -174,10 +171,15 @@ TEST(Xdf, RepairClosesAFileCutAnywhereAndPythonAcceptsIt) {
         auto again = xdf::repair(path);
         ASSERT_TRUE(again.ok());
         EXPECT_TRUE(again->already_closed);
-        if (fovea::record::test::have_python()) {
-            EXPECT_FALSE(python_read(path, "--require-footers").is_null());
+        // libxdf 0.99.8 crashes (Xdf::syncTimeStamps) on a stream without samples, so cuts
+        // before every stream's first chunk are ours alone.
+        if (std::all_of(after->streams.begin(), after->streams.end(),
+                        [](const xdf::Stream& s) { return s.sample_count() > 0; })) {
+            expect_libxdf_agrees(path);
+            ++compared;
         }
     }
+    EXPECT_GE(compared, 6);
 }
 
 TEST(Xdf, GarbageIsAClearErrorNotACrash) {
@@ -195,9 +197,7 @@ TEST(Xdf, GarbageIsAClearErrorNotACrash) {
         for (int m = 0; m < 4; ++m) b[600 + rng() % (b.size() - 600)] = static_cast<uint8_t>(rng());
         auto f = xdf::parse(b.data(), b.size());
         if (f.ok()) {
-            for (const auto& s : f->streams) {
-                ASSERT_EQ(s.values.size(), s.stamps.size() * 3);
-            }
+            for (const auto& s : f->streams) { ASSERT_EQ(s.values.size(), s.stamps.size() * 3); }
         }
     }
 }

@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -156,6 +157,54 @@ TEST(SeqlockRing, WaitWakesOnPublishAndTimesOut) {
     EXPECT_EQ(c, nullptr);
 }
 
+// The opt-in spin learns a 1 kHz cadence and spins before each record: every record still
+// arrives, in order, through wait + read; once the writer stops, wait times out (a spin window is
+// used once per record, never a busy wait for the whole timeout).
+TEST(SeqlockRing, SpinningWaitSeesEveryRecordAndStillTimesOut) {
+    const auto inst = unique_instance("spin");
+    RingWriter w = make_writer(inst, 1024);
+    fovea_client* c = nullptr;
+    ASSERT_EQ(fovea_client_open(inst.c_str(), FOVEA_STREAM_GAZE, &c), FOVEA_OK);
+    ASSERT_EQ(fovea_client_set_wait_spin(c, -1), FOVEA_OK);
+    constexpr uint64_t kRecords = 300;
+    std::thread publisher([&] {
+        for (uint64_t i = 0; i < kRecords; ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            auto r = make_record(i);
+            w.publish(r);
+        }
+    });
+    uint64_t cursor = 0, next = 0;
+    int timeouts = 0;
+    while (next < kRecords && timeouts < 50) {
+        const int s = fovea_client_wait(c, cursor, 100);
+        if (s == FOVEA_E_TIMEOUT) {
+            ++timeouts;
+            continue;
+        }
+        ASSERT_EQ(s, FOVEA_OK);
+        fovea_gaze_record rec[8];
+        uint32_t n = 0;
+        ASSERT_EQ(fovea_client_read(c, &cursor, rec, 8, &n, nullptr), FOVEA_OK);
+        for (uint32_t k = 0; k < n; ++k) EXPECT_EQ(rec[k].index, next++);
+    }
+    publisher.join();
+    EXPECT_EQ(next, kRecords);
+    EXPECT_EQ(timeouts, 0);
+    const int64_t cpu0 = []() {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+    }();
+    EXPECT_EQ(fovea_client_wait(c, cursor, 200), FOVEA_E_TIMEOUT);
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    const int64_t cpu = int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec - cpu0;
+    EXPECT_LT(cpu, 50'000'000) << "a 200 ms wait on a stopped writer must sleep, not spin";
+    EXPECT_EQ(fovea_client_set_wait_spin(nullptr, 0), FOVEA_E_INVALID_ARGUMENT);
+    fovea_client_close(&c);
+}
+
 TEST(SeqlockRing, WrongStreamKindIsRejected) {
     const auto inst = unique_instance("kind");
     RingWriter w = make_writer(inst, 64);
@@ -212,6 +261,29 @@ TEST(SeqlockRing, RestartedWriterIsDetected) {
     w.reset();  // the stale writer's close() must not unlink the new generation's object...
     fovea::Client again(inst);  // ...which is still there
     EXPECT_EQ(again.info().generation, w2.generation());
+}
+
+TEST(SeqlockRing, EyeGeometryTravelsInTheHeader) {
+    const auto inst = unique_instance("eyes");
+    {
+        RingWriter monitor = make_writer(inst, 64);
+        fovea::Client c(inst);
+        EXPECT_EQ(c.eye_geometry().ipd_m, 0.0f);  // a writer without an HMD profile
+    }
+    WriterOptions o;
+    o.instance = inst;
+    o.slot_count = 64;
+    o.eyes.ipd_m = 0.064f;
+    for (int e = 0; e < 2; ++e)
+        for (int k = 0; k < 4; ++k) o.eyes.fov_deg[e][k] = 40.0f + 3.0f * e + k;
+    auto w = RingWriter::create(o);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    fovea::Client c(inst);
+    const fovea_eye_geometry g = c.eye_geometry();
+    EXPECT_EQ(g.ipd_m, 0.064f);
+    EXPECT_EQ(g.fov_deg[0][0], 40.0f);
+    EXPECT_EQ(g.fov_deg[1][3], 46.0f);
+    EXPECT_EQ(fovea_client_eye_geometry(nullptr, nullptr), FOVEA_E_INVALID_ARGUMENT);
 }
 
 TEST(SeqlockRing, ReadersAttachedIsSeenByTheWriter) {
@@ -310,10 +382,9 @@ TEST(SeqlockRing, ReaderNeverSeesTornSlot) {
             };
             while (!done.load(std::memory_order_acquire)) {
                 if (i % 2 == 0) fovea_client_wait(c.handle(), cursor, 10);  // sleepers
-                drain();                                                      // and spinners
+                drain();                                                    // and spinners
             }
-            while (drain() > 0) {
-            }
+            while (drain() > 0) {}
             // latest() under fire, too
             auto l = c.latest();
             if (!l || !consistent(*l)) ++torn;
@@ -344,8 +415,7 @@ TEST(SeqlockRing, ReaderKilledMidReadNeverDisturbsWriter) {
         ASSERT_GE(child, 0);
         if (child == 0) {
             fovea_client* c = nullptr;
-            while (fovea_client_open(inst.c_str(), FOVEA_STREAM_GAZE, &c) != FOVEA_OK) {
-            }
+            while (fovea_client_open(inst.c_str(), FOVEA_STREAM_GAZE, &c) != FOVEA_OK) {}
             uint64_t cursor = 0;
             fovea_gaze_record buf[32];
             for (;;) {
@@ -355,8 +425,8 @@ TEST(SeqlockRing, ReaderKilledMidReadNeverDisturbsWriter) {
                     if (!consistent(buf[k])) _exit(3);
             }
         }
-        const auto until = std::chrono::steady_clock::now() +
-                           std::chrono::microseconds(500 + rng() % 5000);
+        const auto until =
+            std::chrono::steady_clock::now() + std::chrono::microseconds(500 + rng() % 5000);
         while (std::chrono::steady_clock::now() < until) {
             auto r = make_record(n++);
             w.publish(r);

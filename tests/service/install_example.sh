@@ -1,9 +1,9 @@
 #!/bin/bash
 # Install the build into a temporary prefix, check the layout, start the installed fovead,
 # then build the external example (sdk/examples/gaze_print) with find_package(fovea) and with
-# pkg-config and run both against it.
+# pkg-config and run both against it. abi: FOVEA_RING_ABI_VERSION as CMake read it from ring.h.
 set -eu
-build=$1 src=$2
+build=$1 src=$2 abi=$3
 tmp=$(mktemp -d /tmp/fvinst.XXXXXX)
 daemon_pid=
 cleanup() {
@@ -22,12 +22,12 @@ for f in sbin/fovead bin/fovea lib/systemd/system/fovead.service lib/systemd/sys
          include/fovea/client.h include/fovea/ring.h include/fovea/client.hpp; do
     [ -e "$prefix/$f" ] || fail "$f not installed"
 done
-for f in libfovea.so libfovea.so.1 cmake/fovea/foveaConfig.cmake cmake/fovea/foveaConfigVersion.cmake \
+for f in libfovea.so "libfovea.so.$abi" cmake/fovea/foveaConfig.cmake cmake/fovea/foveaConfigVersion.cmake \
          cmake/fovea/foveaTargets.cmake pkgconfig/fovea.pc; do
     [ -e "$libdir/$f" ] || fail "$libdir/$f not installed"
 done
 soname=$(objdump -p "$libdir/libfovea.so" | awk '/SONAME/ {print $2}')
-[ "$soname" = "libfovea.so.1" ] || fail "SONAME is '$soname', want libfovea.so.1 (ring ABI 1)"
+[ "$soname" = "libfovea.so.$abi" ] || fail "SONAME is '$soname', want libfovea.so.$abi (ring ABI $abi)"
 grep -q "^ExecStart=.*/sbin/fovead" "$prefix/lib/systemd/system/fovead.service" || fail "ExecStart"
 "$prefix/sbin/fovead" --config "$prefix/etc/fovea/fovead.toml" --check-config || fail "example fovead.toml"
 
@@ -47,7 +47,7 @@ check_output() {  # $1: name, $2: file
     local n
     n=$(grep -c -E '^[0-9]+ [0-9.]+ [0-9.-]+ [0-9.-]+ [a-z]+$' "$2" || true)
     [ "$n" -eq 50 ] || { cat "$2"; fail "$1: $n sample lines, want 50"; }
-    grep -q "^# fovea ABI 1, instance $instance" "$2" || fail "$1: no header line"
+    grep -q "^# fovea ABI $abi, instance $instance" "$2" || fail "$1: no header line"
     echo "OK: $1 read 50 samples"
 }
 
@@ -66,8 +66,8 @@ check_output pkg-config "$tmp/out-pc"
 
 # Both binaries use the installed libfovea, not the build tree's.
 for exe in "$tmp/ex-cmake/gaze_print" "$tmp/gaze_print"; do
-    used=$(ldd "$exe" | awk '/libfovea.so.1 =>/ {print $3}')
-    [ -n "$used" ] && [ "$(realpath "$used")" = "$(realpath "$libdir/libfovea.so.1")" ] || { ldd "$exe"; fail "$exe does not use the installed libfovea"; }
+    used=$(ldd "$exe" | awk -v so="libfovea.so.$abi" '$1 == so {print $3}')
+    [ -n "$used" ] && [ "$(realpath "$used")" = "$(realpath "$libdir/libfovea.so.$abi")" ] || { ldd "$exe"; fail "$exe does not use the installed libfovea"; }
 done
 "$prefix/bin/fovea" --instance "$instance" status > /dev/null
 kill -TERM "$daemon_pid"; wait "$daemon_pid"; rc=$?; daemon_pid=

@@ -34,7 +34,7 @@ TEST_F(ServiceTest, NonAdminPeerGetsStatusButShutdownIsRefused) {
     ASSERT_GT(d->pid, 0);
     // Deployed, the socket's group is `fovea` and readers are its members; here nobody reaches
     // it through nogroup. The socket's 0660 mode keeps everyone else out (checked below).
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(::stat(socket_path().c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 0777, 0660u);
     ASSERT_EQ(::chown(socket_path().c_str(), static_cast<uid_t>(-1), kNogroup), 0);
@@ -50,7 +50,8 @@ TEST_F(ServiceTest, NonAdminPeerGetsStatusButShutdownIsRefused) {
     ::close(fds[1]);
     std::string text;
     char buf[4096];
-    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) text.append(buf, static_cast<size_t>(n));
+    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;)
+        text.append(buf, static_cast<size_t>(n));
     ::close(fds[0]);
     int status = 0;
     waitpid(child, &status, 0);

@@ -7,6 +7,7 @@
 
 #include "config.hpp"
 #include "fovea/client.hpp"
+#include "fovea/import/pupil_datum.hpp"
 #include "service_fixture.hpp"
 #include "zmq_publisher.hpp"
 
@@ -104,6 +105,20 @@ TEST(ZmqCodec, PupilKeysUseBottomLeftOriginAndSeconds) {
     EXPECT_NEAR(g->timestamp, static_cast<double>(r.t_capture_ns) / 1e9, 1e-6);
 }
 
+TEST(ZmqCodec, PublishedDatumReadsAsAPupilGazeDatumInPupilsOwnDecoder) {
+    // The decoder the pupil driver and the Pupil importer use on what Pupil Capture wrote.
+    const fovea_gaze_record r = sample_record();
+    const auto m = encode_pupil_gaze(r);
+    auto d = import::decode_pupil_datum(m.payload);
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    EXPECT_TRUE(d->is_gaze());
+    EXPECT_EQ(d->topic, m.topic);
+    EXPECT_TRUE(d->from_eye(0) && d->from_eye(1));
+    EXPECT_DOUBLE_EQ(d->confidence, 1.0);
+    EXPECT_NEAR(d->norm_y, 1.0 - r.combined.norm_y, 1e-7);
+    EXPECT_NEAR(d->timestamp, static_cast<double>(r.t_capture_ns) / 1e9, 1e-6);
+}
+
 TEST(ZmqCodec, TopicFollowsWhichEyesAreTracked) {
     fovea_gaze_record r = sample_record();
     struct Case {
@@ -135,7 +150,7 @@ TEST(ZmqCodec, MalformedPayloadsAreRejected) {
     const auto m = encode_pupil_gaze(sample_record());
     EXPECT_FALSE(decode_pupil_gaze(m.topic, "").ok());
     EXPECT_FALSE(decode_pupil_gaze(m.topic, "\xc1\xc1\xc1").ok());
-    EXPECT_FALSE(decode_pupil_gaze("gaze.2d.0.", m.payload).ok());  // topic frame disagrees
+    EXPECT_FALSE(decode_pupil_gaze("gaze.2d.0.", m.payload).ok());   // topic frame disagrees
     EXPECT_FALSE(decode_pupil_gaze(m.topic, m.payload + "x").ok());  // trailing bytes
     for (std::size_t cut = 1; cut < m.payload.size(); cut += 7)
         EXPECT_FALSE(decode_pupil_gaze(m.topic, m.payload.substr(0, cut)).ok()) << cut;
@@ -167,8 +182,9 @@ struct ZmqFanOut : ServiceTest {
     std::string remote;
 
     std::unique_ptr<Proc> start_publishing() {
-        const auto cfg = write_file("z.toml", "[zmq]\npublish = \"tcp://127.0.0.1:*\"\n"
-                                              "remote = \"tcp://127.0.0.1:*\"\n");
+        const auto cfg = write_file("z.toml",
+                                    "[zmq]\npublish = \"tcp://127.0.0.1:*\"\n"
+                                    "remote = \"tcp://127.0.0.1:*\"\n");
         auto d = start_daemon({"--config", cfg});
         auto st = query("status");
         if (st.ok() && st->contains("zmq")) {
@@ -208,9 +224,7 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
         auto b = ring.read(cursor, 512);
         ASSERT_EQ(b.dropped, 0u) << "ring overran before the comparison (4096 slots)";
         ASSERT_FALSE(b.writer_restarted);
-        if (b.records.empty()) {
-            ASSERT_TRUE(ring.wait(cursor, 2000));
-        }
+        if (b.records.empty()) { ASSERT_TRUE(ring.wait(cursor, 2000)); }
         from_ring.insert(from_ring.end(), b.records.begin(), b.records.end());
     }
     for (std::size_t i = 0; i < got.size(); ++i) {
@@ -227,7 +241,8 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
             // publish = "live" (the default): the ring got this sample before the detector's
             // look-ahead, with a causal label; the fan-out carries the final label.
             ASSERT_TRUE(r.event == FOVEA_EVENT_UNKNOWN || r.event == FOVEA_EVENT_SACCADE ||
-                        r.event == FOVEA_EVENT_BLINK) << i;
+                        r.event == FOVEA_EVENT_BLINK)
+                << i;
             ASSERT_FALSE(z.record.flags & FOVEA_FLAG_PROVISIONAL) << i;
         } else {
             ASSERT_EQ(z.record.event, r.event) << i;
@@ -257,9 +272,7 @@ TEST_F(ZmqFanOut, WatchSubscribesAndPrintsConsecutiveSamples) {
         const auto hash = line.find('#');
         ASSERT_NE(hash, std::string::npos) << line;
         const long long idx = std::stoll(line.substr(hash + 1));
-        if (prev >= 0) {
-            EXPECT_EQ(idx, prev + 1) << line;
-        }
+        if (prev >= 0) { EXPECT_EQ(idx, prev + 1) << line; }
         prev = idx;
         ++n;
     }
@@ -314,7 +327,8 @@ TEST_F(ZmqFanOut, EndpointInUseFailsTheStartWithAClearError) {
 }
 
 TEST_F(ZmqFanOut, WatchWithoutAPublisherTimesOutWithAClearError) {
-    auto w = spawn(kFovea, {"watch", "--zmq", "tcp://127.0.0.1:9", "--count", "1", "--wait", "0.3"});
+    auto w =
+        spawn(kFovea, {"watch", "--zmq", "tcp://127.0.0.1:9", "--count", "1", "--wait", "0.3"});
     EXPECT_NE(w->wait(5s), 0);
     EXPECT_NE(w->err().find("no gaze from tcp://127.0.0.1:9"), std::string::npos) << w->err();
 }

@@ -81,8 +81,9 @@ TEST(UsbTransferSet, StoppingRetiresCancelledTransfersUntilAllIdle) {
     set.begin_stop();
     for (std::size_t i = 0; i < 4; ++i) {
         EXPECT_FALSE(set.all_idle());
-        EXPECT_EQ(set.on_complete(i, i == 3 ? TransferStatus::kCompleted : TransferStatus::kCancelled, 0),
-                  Action::kRetire);
+        EXPECT_EQ(
+            set.on_complete(i, i == 3 ? TransferStatus::kCompleted : TransferStatus::kCancelled, 0),
+            Action::kRetire);
     }
     EXPECT_TRUE(set.all_idle());
     EXPECT_FALSE(set.gone());
@@ -109,7 +110,8 @@ TEST(UsbFrameStream, EveryFrameInADeliveredTransferArrivesWhateverTheChunking) {
     for (int round = 0; round < 20; ++round) {
         std::vector<uint8_t> wire = hello_bytes();
         const uint32_t n = 500;
-        for (uint32_t i = 0; i < n; ++i) serial::encode_sample(make_sample(i), static_cast<uint16_t>(i + 1), wire);
+        for (uint32_t i = 0; i < n; ++i)
+            serial::encode_sample(make_sample(i), static_cast<uint16_t>(i + 1), wire);
         TransferSet set(4);
         FrameStream stream;
         std::vector<fovea::gaze::RawSample> out;
@@ -124,8 +126,8 @@ TEST(UsbFrameStream, EveryFrameInADeliveredTransferArrivesWhateverTheChunking) {
             const bool timeout = kind(rng) < 5;
             timeouts += timeout;
             stream.feed({wire.data() + pos, len}, 1, 9, out);
-            const auto a = set.on_complete(slot, timeout ? TransferStatus::kTimedOut
-                                                         : TransferStatus::kCompleted, len);
+            const auto a = set.on_complete(
+                slot, timeout ? TransferStatus::kTimedOut : TransferStatus::kCompleted, len);
             ASSERT_EQ(a, Action::kResubmit);
             set.on_submitted(slot);
             slot = (slot + 1) % 4;
@@ -176,10 +178,11 @@ TEST(UsbFrameStream, LostTransfersCostOnlyTheirFramesAndAreCounted) {
     }
     // A torn transfer loses its own frame (the junk's 0x00 ends it early) and nothing else.
     uint32_t torn = 0;
-    for (std::size_t t = 1; t < transfers.size(); ++t) torn += (t % 7 == 3) && !(t > 1 && t % 10 == 0);
+    for (std::size_t t = 1; t < transfers.size(); ++t)
+        torn += (t % 7 == 3) && !(t > 1 && t % 10 == 0);
     EXPECT_EQ(out.size(), 301u - overflowed - torn);
     EXPECT_EQ(stream.counters().lost, overflowed + torn);  // every gap seen in the sequence
-    EXPECT_EQ(stream.counters().dropped, 3u * torn);  // first half, junk, second half
+    EXPECT_EQ(stream.counters().dropped, 3u * torn);       // first half, junk, second half
 }
 
 TEST(UsbFrameStream, SamplesBeforeHelloAreDroppedAndResetForgetsTheSession) {

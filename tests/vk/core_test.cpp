@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -16,7 +18,6 @@
 namespace fovea::vk {
 namespace {
 
-using test::float_to_half;
 using test::half_to_float;
 
 // A cheap host shading function with per-pixel detail: what matters here is equality, not cost.
@@ -42,8 +43,8 @@ void upload_test_gbuffer(const Device& device, const Foveator& f) {
     const VkExtent2D e = f.gbuffer().extent;
     const size_t n = size_t{e.width} * e.height;
     std::vector<float> pos(n * 4);
-    std::vector<uint16_t> nrm(n * 4), mat(n * 4), motion(n * 2);
-    std::vector<uint8_t> alb(n * 4);
+    std::vector<SurfaceTexel> surface(n);
+    std::vector<uint16_t> motion(n * 2);
     std::vector<float> depth(n);
     for (uint32_t y = 0; y < e.height; ++y)
         for (uint32_t x = 0; x < e.width; ++x) {
@@ -53,12 +54,12 @@ void upload_test_gbuffer(const Device& device, const Foveator& f) {
             pos[i * 4 + 1] = y * 0.05f;
             pos[i * 4 + 2] = obj ? -3.f : -5.f;
             pos[i * 4 + 3] = obj ? 3.f : 5.f;
-            nrm[i * 4 + 2] = float_to_half(1.f);
-            mat[i * 4 + 0] = float_to_half(obj ? 2.f : 1.f);
-            alb[i * 4 + 0] = static_cast<uint8_t>(x * 7);
-            alb[i * 4 + 1] = static_cast<uint8_t>(y * 5);
-            alb[i * 4 + 2] = obj ? 200 : 60;
-            alb[i * 4 + 3] = 255;
+            SurfaceSample s;
+            s.normal = {0.f, 0.f, 1.f};
+            s.material[0] = obj ? 2.f : 1.f;
+            s.albedo = {float(uint8_t(x * 7)) / 255.f, float(uint8_t(y * 5)) / 255.f,
+                        obj ? 200.f / 255.f : 60.f / 255.f};
+            surface[i] = pack_surface(s);
             depth[i] = obj ? 0.9f : 0.95f;
         }
     auto bytes = [](const auto& v) {
@@ -67,9 +68,7 @@ void upload_test_gbuffer(const Device& device, const Foveator& f) {
     };
     const GBufferRefs& g = f.gbuffer();
     upload_image(device, g[GBufferImage::kPosition], bytes(pos));
-    upload_image(device, g[GBufferImage::kNormal], bytes(nrm));
-    upload_image(device, g[GBufferImage::kAlbedo], bytes(alb));
-    upload_image(device, g[GBufferImage::kMaterial], bytes(mat));
+    upload_image(device, g[GBufferImage::kSurface], bytes(surface));
     upload_image(device, g[GBufferImage::kDepth], bytes(depth));
     upload_image(device, g[GBufferImage::kMotion], bytes(motion));
 }
@@ -85,11 +84,12 @@ std::vector<float> read_rgba16f(const Device& device, const ImageRef& img) {
     return out;
 }
 
-uint64_t expected_coarse_samples(const std::vector<uint8_t>& tiles, uint32_t tiles_x,
-                                 uint32_t w, uint32_t h, uint32_t ts) {
+uint64_t expected_coarse_samples(const std::vector<uint8_t>& tiles, uint32_t tiles_x, uint32_t w,
+                                 uint32_t h, uint32_t ts) {
     uint64_t n = 0;
     for (size_t i = 0; i < tiles.size(); ++i) {
-        const uint32_t tx = static_cast<uint32_t>(i % tiles_x), ty = static_cast<uint32_t>(i / tiles_x);
+        const uint32_t tx = static_cast<uint32_t>(i % tiles_x),
+                       ty = static_cast<uint32_t>(i / tiles_x);
         const uint32_t r = tiles[i];
         const uint32_t pw = std::min(ts, w - tx * ts), ph = std::min(ts, h - ty * ts);
         n += uint64_t{(pw + r - 1) / r} * ((ph + r - 1) / r);
@@ -171,6 +171,58 @@ TEST(AcuityModel, NanGazeFallsBackToCentre) {
     EXPECT_TRUE(resolve_gaze(g, d, AcuityParams{}).fell_back);
 }
 
+// A blink (NaN gaze) keeps the fovea where the eye last was, ageing the held gaze by the frame
+// time so the margin widens; only before any valid gaze does the centre stand in.
+TEST(GazeResolver, HoldsLastValidGazeThroughNanAndAgesIt) {
+    const EyeDisplay d = EyeDisplay::desktop_1080p();
+    AcuityParams a;
+    GazeResolver r(d, a);
+    GazeState nan;
+    nan.x = nan.y = std::numeric_limits<float>::quiet_NaN();
+    const ResolvedGaze first = r.resolve(nan, 0.0);
+    EXPECT_TRUE(first.fell_back);
+    EXPECT_FALSE(first.held);
+    EXPECT_FLOAT_EQ(first.x_px, 960.f);
+
+    GazeState g;
+    g.x = 0.2f;
+    g.y = 0.7f;
+    g.age_s = 0.02f;
+    const ResolvedGaze valid = r.resolve(g, 1.0);
+    EXPECT_FALSE(valid.held);
+    EXPECT_FLOAT_EQ(valid.x_px, 0.2f * 1920.f);
+
+    const ResolvedGaze held = r.resolve(nan, 1.25);
+    EXPECT_TRUE(held.held);
+    EXPECT_FALSE(held.fell_back);
+    EXPECT_FLOAT_EQ(held.x_px, valid.x_px);
+    EXPECT_FLOAT_EQ(held.y_px, valid.y_px);
+    EXPECT_NEAR(held.margin_deg, valid.margin_deg + 0.25f * a.drift_dps, 1e-5f);
+
+    GazeState inf = g;
+    inf.y = std::numeric_limits<float>::infinity();
+    EXPECT_TRUE(r.resolve(inf, 1e6).held);
+    EXPECT_FLOAT_EQ(r.resolve(inf, 1e6).margin_deg, a.max_margin_deg);  // capped, never inf
+    EXPECT_TRUE(r.resolve(nan, std::numeric_limits<double>::quiet_NaN()).held);
+    r.reset();
+    EXPECT_TRUE(r.resolve(nan, 2.0).fell_back);
+}
+
+// In a saccade the landing prediction alone is a valid gaze, even when the position is NaN.
+TEST(GazeResolver, FiniteLandingCountsAsValid) {
+    const EyeDisplay d = EyeDisplay::desktop_1080p();
+    GazeResolver r(d, AcuityParams{});
+    GazeState s;
+    s.x = s.y = std::numeric_limits<float>::quiet_NaN();
+    s.in_saccade = s.landing_valid = true;
+    s.landing_x = 0.9f;
+    s.landing_y = 0.1f;
+    const ResolvedGaze out = r.resolve(s, 0.0);
+    EXPECT_TRUE(out.used_landing);
+    EXPECT_FALSE(out.held);
+    EXPECT_FLOAT_EQ(out.x_px, 0.9f * 1920.f);
+}
+
 TEST(AcuityModel, HaltonJitterIsInRangeAndPeriodic) {
     float x0, y0, x1, y1;
     for (uint64_t i = 0; i < 64; ++i) {
@@ -184,7 +236,7 @@ TEST(AcuityModel, HaltonJitterIsInRangeAndPeriodic) {
         EXPECT_EQ(y0, y1);
     }
     halton_jitter(0, 8, x0, y0);
-    EXPECT_FLOAT_EQ(x0, 0.0f);     // Halton(2) index 1 = 1/2
+    EXPECT_FLOAT_EQ(x0, 0.0f);  // Halton(2) index 1 = 1/2
     EXPECT_FLOAT_EQ(y0, 1.f / 3.f - 0.5f);
     halton_jitter(5, 0, x0, y0);
     EXPECT_EQ(x0, 0.f);
@@ -218,7 +270,7 @@ TEST(CoarsePixelShading, RateTilesMatchCpuModelTexelByTexel) {
         size_t mismatches = 0;
         for (size_t i = 0; i < cpu.size(); ++i) mismatches += gpu[i] != cpu[i];
         EXPECT_EQ(mismatches, 0u) << "gaze " << gz[0] << "," << gz[1];
-        EXPECT_EQ(s.gaze.fell_back, std::isnan(gz[0]));
+        EXPECT_EQ(s.gaze.held, std::isnan(gz[0]));  // holds the previous gaze (off screen)
         // Work is proportional to the samples shaded: exactly one shade per coarse pixel
         // (this G-buffer is uniform, so there are no edge re-shades).
         const uint32_t tiles_x = (1920 + ts - 1) / ts;
@@ -280,8 +332,10 @@ TEST(CoarsePixelShading, FovealPixelsEqualFullRateReference) {
             rate_bad += half_to_float(sh) != normalized_rate(r);
             for (int ch = 0; ch < 3; ++ch) {
                 const float d = std::abs(cps[i * 4 + ch] - ref[i * 4 + ch]);
-                if (r == 1) bad += d > 1.0f / 255.0f;
-                else peripheral_err += d;
+                if (r == 1)
+                    bad += d > 1.0f / 255.0f;
+                else
+                    peripheral_err += d;
             }
             foveal += r == 1;
         }
@@ -294,7 +348,8 @@ TEST(CoarsePixelShading, FovealPixelsEqualFullRateReference) {
 
 TEST(Foveator, TinyAndHugeTargetsWork) {
     FOVEA_REQUIRE_DEVICE();
-    for (const auto& [w, h] : std::array<std::pair<uint32_t, uint32_t>, 2>{{{1, 1}, {7680, 4320}}}) {
+    for (const auto& [w, h] :
+         std::array<std::pair<uint32_t, uint32_t>, 2>{{{1, 1}, {7680, 4320}}}) {
         auto f = Foveator::create(*device, config_for(w, h, "cps"));
         ASSERT_TRUE(f) << f.error().message;
         FrameInputs in;
@@ -303,9 +358,7 @@ TEST(Foveator, TinyAndHugeTargetsWork) {
         const FrameStats s = f->stats();
         EXPECT_GE(s.shaded_samples, 1u);
         EXPECT_LE(s.shaded_fraction, 1.0);
-        if (w > 1) {
-            EXPECT_LE(s.shaded_fraction, 0.30);
-        }
+        if (w > 1) { EXPECT_LE(s.shaded_fraction, 0.30); }
     }
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
@@ -363,8 +416,7 @@ TEST(Foveator, BadInputIsAnErrorNotACrash) {
     c.shading_glsl = "vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) { return oops; }";
     auto bad_glsl = Foveator::create(*device, c);
     ASSERT_FALSE(bad_glsl);
-    EXPECT_NE(bad_glsl.error().message.find("oops"), std::string::npos)
-        << bad_glsl.error().message;
+    EXPECT_NE(bad_glsl.error().message.find("oops"), std::string::npos) << bad_glsl.error().message;
     c = config_for(64, 64, "no-such-method");
     auto bad_method = Foveator::create(*device, c);
     ASSERT_FALSE(bad_method);
@@ -373,6 +425,34 @@ TEST(Foveator, BadInputIsAnErrorNotACrash) {
     c.extent = {0, 64};
     EXPECT_FALSE(Foveator::create(*device, c));
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
+}
+
+// Validation asked for and not installed is an error, so no "zero validation errors" check can pass
+// without the layer. The loader finds no explicit layer when VK_LAYER_PATH names an empty folder.
+TEST(Device, ValidationRequestedButNotInstalledIsAnError) {
+    FOVEA_REQUIRE_DEVICE();
+    const std::string empty = std::string(FOVEA_BINARY_DIR) + "/tests/vk/no_layers";
+    std::filesystem::create_directories(empty);
+    const char* saved = std::getenv("VK_LAYER_PATH");
+    const std::string saved_value = saved ? saved : "";
+    ::setenv("VK_LAYER_PATH", empty.c_str(), 1);
+    DeviceOptions o;
+    o.validation = true;
+    auto d = Device::create_headless(o);
+    if (saved)
+        ::setenv("VK_LAYER_PATH", saved_value.c_str(), 1);
+    else
+        ::unsetenv("VK_LAYER_PATH");
+    ASSERT_FALSE(d) << "validation silently off";
+    EXPECT_EQ(d.error().code, static_cast<int>(VK_ERROR_LAYER_NOT_PRESENT));
+    EXPECT_NE(d.error().message.find("vulkan-validationlayers"), std::string::npos)
+        << d.error().message;
+    o.validation = false;
+    auto plain = Device::create_headless(o);
+    ASSERT_TRUE(plain) << plain.error().message;
+    EXPECT_FALSE(plain->validation_enabled());
+    EXPECT_EQ(device->validation_enabled(), test::kValidation);
+    EXPECT_EQ(device->validation_errors(), validation_errors_before);
 }
 
 // The hardware path: lavapipe has no VK_KHR_fragment_shading_rate, which is reported cleanly;

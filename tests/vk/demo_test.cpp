@@ -27,8 +27,8 @@ TEST(ZonePlate, PeripheralAttenuationFollowsTheMarLine) {
     auto f = vk::Foveator::create(*device, c);
     ASSERT_TRUE(f) << f.error().message;
     const Camera cam = target_camera(c.display);
-    const double unit = 2.0 * cam.tan_x / kSize;     // plane units per pixel
-    const double k = 0.5 / (256.0 * unit * unit);    // local frequency 0.5 cycles/px at r = 256
+    const double unit = 2.0 * cam.tan_x / kSize;   // plane units per pixel
+    const double k = 0.5 / (256.0 * unit * unit);  // local frequency 0.5 cycles/px at r = 256
     std::array<float, 64> host{};
     host[0] = static_cast<float>(k);
     host[2] = static_cast<float>(unit);
@@ -42,7 +42,8 @@ TEST(ZonePlate, PeripheralAttenuationFollowsTheMarLine) {
         });
         const auto raw = device->read_image(f->output());
         std::vector<float> g(kSize * kSize);
-        for (size_t i = 0; i < g.size(); ++i) g[i] = half_to_float(uint16_t(raw[i * 8] | raw[i * 8 + 1] << 8));
+        for (size_t i = 0; i < g.size(); ++i)
+            g[i] = half_to_float(uint16_t(raw[i * 8] | raw[i * 8 + 1] << 8));
         return g;
     };
     const auto ref = render();
@@ -78,12 +79,8 @@ TEST(ZonePlate, PeripheralAttenuationFollowsTheMarLine) {
         const double f_mar = pix / vk::mar_deg(c.acuity, e);  // resolvable, cycles per pixel
         const double rate = vk::rate_at(c.display, c.acuity, gaze, px, py);
         const double q = rate >= 4 ? 4 : rate >= 2 ? 2 : 1;
-        if (f_px < 0.3) {
-            EXPECT_GT(ar, 0.8) << "reference ring " << i;
-        }
-        if (q == 1) {
-            EXPECT_NEAR(ac, ar, 0.02) << "full-rate ring " << i;
-        }
+        if (f_px < 0.3) { EXPECT_GT(ar, 0.8) << "reference ring " << i; }
+        if (q == 1) { EXPECT_NEAR(ac, ar, 0.02) << "full-rate ring " << i; }
         if (f_px <= 0.5 * f_mar) {  // well inside what the eye resolves here: kept
             EXPECT_GT(ac, 0.6 * ar) << "ring " << i << " e " << e << " f " << f_px;
             ++checked_pass;
@@ -115,7 +112,7 @@ TEST(DemoRunner, CpsMatchesReferenceInTheFoveaOnTheDemoScene) {
     const MethodResult& cps = (*r)[1];
     EXPECT_EQ(full.name, "full");
     EXPECT_TRUE(cps.error.empty()) << cps.error;
-    EXPECT_DOUBLE_EQ(full.error_figures.psnr_fovea_db, 100.0);
+    EXPECT_EQ(full.error_figures.psnr_fovea_db, INFINITY);  // pooled, uncapped
     EXPECT_NEAR(full.shaded_fraction, 1.0, 1e-9);
     EXPECT_LT(cps.shaded_fraction, 0.6);
     EXPECT_GE(cps.error_figures.psnr_fovea_db, 40.0);
@@ -151,11 +148,15 @@ TEST(SceneRenderer, RasterizedGBufferMatchesThePixelRays) {
             scene.begin_frame();
             scene.record(cmd, g, SceneKind::kDemo, cam, cam, 1.0, c.crop, c.jitter);
         });
-        const auto pos = device->read_image(g.images[0]);
-        const auto nrm = device->read_image(g.images[1]);
-        const auto mat = device->read_image(g.images[3]);
-        const auto dep = device->read_image(g.images[4]);
-        const auto mot = device->read_image(g.images[5]);
+        const auto pos = device->read_image(g[vk::GBufferImage::kPosition]);
+        const auto srf = device->read_image(g[vk::GBufferImage::kSurface]);
+        const auto dep = device->read_image(g[vk::GBufferImage::kDepth]);
+        const auto mot = device->read_image(g[vk::GBufferImage::kMotion]);
+        auto surface = [&](size_t i) {
+            vk::SurfaceTexel t;
+            std::memcpy(t.data(), srf.data() + 16 * i, 16);
+            return vk::unpack_surface(t);
+        };
         auto f32 = [](const std::vector<uint8_t>& b, size_t i) {
             float v;
             std::memcpy(&v, b.data() + 4 * i, 4);
@@ -168,31 +169,36 @@ TEST(SceneRenderer, RasterizedGBufferMatchesThePixelRays) {
         for (uint32_t y = 0; y < kH; ++y)
             for (uint32_t x = 0; x < kW; ++x) {
                 const size_t i = size_t{y} * kW + x;
-                const float fx = c.crop[0] + (c.crop[2] - c.crop[0]) * (x + 0.5f + c.jitter[0]) / kW;
-                const float fy = c.crop[1] + (c.crop[3] - c.crop[1]) * (y + 0.5f + c.jitter[1]) / kH;
+                const float fx =
+                    c.crop[0] + (c.crop[2] - c.crop[0]) * (x + 0.5f + c.jitter[0]) / kW;
+                const float fy =
+                    c.crop[1] + (c.crop[3] - c.crop[1]) * (y + 0.5f + c.jitter[1]) / kH;
                 std::array<double, 3> rd{};
                 for (int k = 0; k < 3; ++k)
                     rd[k] = cam.fwd[k] + cam.right[k] * (2 * fx - 1) * cam.tan_x +
                             cam.up[k] * (1 - 2 * fy) * cam.tan_y;
                 const double len = std::hypot(rd[0], rd[1], rd[2]);
-                const double n[3] = {f16(nrm, 4 * i), f16(nrm, 4 * i + 1), f16(nrm, 4 * i + 2)};
+                const vk::SurfaceSample s = surface(i);
+                const double n[3] = {s.normal[0], s.normal[1], s.normal[2]};
                 const double dist = f32(pos, 4 * i + 3);
-                const int id = static_cast<int>(f16(mat, 4 * i));
+                const int id = static_cast<int>(s.material[0]);
                 bool ok;
                 if (dist == 0.0) {  // sky: the normal carries the pixel's ray
                     ++sky;
                     ok = id == 0 && f32(dep, i) == 1.f;
-                    for (int k = 0; k < 3; ++k) ok = ok && std::abs(n[k] - rd[k] / len) < 2e-3;
+                    for (int k = 0; k < 3; ++k) ok = ok && std::abs(n[k] - rd[k] / len) < 1e-4;
                 } else {
                     (id == 1 ? terrain : objects) += 1;
-                    const double p[3] = {f32(pos, 4 * i) - cam.pos[0], f32(pos, 4 * i + 1) - cam.pos[1],
+                    const double p[3] = {f32(pos, 4 * i) - cam.pos[0],
+                                         f32(pos, 4 * i + 1) - cam.pos[1],
                                          f32(pos, 4 * i + 2) - cam.pos[2]};
                     const double along = (p[0] * rd[0] + p[1] * rd[1] + p[2] * rd[2]) / len;
                     const double off_ray = std::sqrt(std::max(0.0, dist * dist - along * along));
-                    ok = id >= 1 && id <= 5 && std::abs(std::hypot(p[0], p[1], p[2]) - dist) < 1e-3 * dist &&
+                    ok = id >= 1 && id <= 5 &&
+                         std::abs(std::hypot(p[0], p[1], p[2]) - dist) < 1e-3 * dist &&
                          off_ray < 1e-3 * dist &&
                          std::abs(f32(dep, i) - (1.0 - 0.1 / dist)) < 1e-5 &&
-                         std::abs(std::hypot(n[0], n[1], n[2]) - 1.0) < 3e-3 &&
+                         std::abs(std::hypot(n[0], n[1], n[2]) - 1.0) < 1e-5 &&
                          std::abs(f16(mot, 2 * i) + c.jitter[0]) < 0.02 &&
                          std::abs(f16(mot, 2 * i + 1) + c.jitter[1]) < 0.02;
                 }

@@ -1,5 +1,6 @@
-// Shared fixtures for the GPU tests: one validation-enabled headless device per test binary
-// (pipeline creation on lavapipe is slow, so tests share it), skipping cleanly without Vulkan.
+// Shared fixtures for the GPU tests: one headless device per test binary (pipeline creation on
+// lavapipe is slow, so tests share it), validation as FOVEA_VK_VALIDATION says
+// (../support/vk_test_device.hpp), skipping cleanly without Vulkan.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,42 +11,34 @@
 #include <string>
 #include <vector>
 
+#include "../support/vk_test_device.hpp"
 #include "fovea/vk/device.hpp"
 #include "fovea/vk/foveator.hpp"
 
 namespace fovea::vk::test {
 
-inline Device* shared_device() {
-    static std::unique_ptr<Device> device = [] {
-        DeviceOptions o;
-        o.validation = true;
-        o.log = [](LogLevel level, const std::string& msg) {
-            if (level >= LogLevel::kWarning) std::fprintf(stderr, "[vk] %s\n", msg.c_str());
-        };
-        auto d = Device::create_headless(o);
-        if (!d) {
-            std::fprintf(stderr, "no Vulkan device: %s\n", d.error().message.c_str());
-            return std::unique_ptr<Device>();
-        }
-        return std::make_unique<Device>(std::move(*d));
-    }();
-    return device.get();
+inline TestDevice& shared_test_device() {
+    static TestDevice device = make_test_device(/*prefer_software=*/false);
+    return device;
 }
 
-#define FOVEA_REQUIRE_DEVICE()                                                        \
-    ::fovea::vk::Device* device = ::fovea::vk::test::shared_device();                 \
-    if (!device) GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)";   \
+#define FOVEA_REQUIRE_DEVICE()                                                          \
+    FOVEA_ASSERT_TEST_DEVICE(::fovea::vk::test::shared_test_device());                  \
+    ::fovea::vk::Device* device = ::fovea::vk::test::shared_test_device().device.get(); \
     const uint64_t validation_errors_before = device->validation_errors()
 
 #define FOVEA_EXPECT_NO_VALIDATION_ERRORS() \
-    EXPECT_EQ(device->validation_errors(), validation_errors_before) << "validation errors"
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*device, validation_errors_before)
 
 inline float half_to_float(uint16_t h) {
     const uint32_t s = (h >> 15) & 1, e = (h >> 10) & 31, m = h & 1023;
     float v;
-    if (e == 0) v = std::ldexp(static_cast<float>(m), -24);
-    else if (e == 31) v = m ? NAN : INFINITY;
-    else v = std::ldexp(static_cast<float>(m | 1024), static_cast<int>(e) - 25);
+    if (e == 0)
+        v = std::ldexp(static_cast<float>(m), -24);
+    else if (e == 31)
+        v = m ? NAN : INFINITY;
+    else
+        v = std::ldexp(static_cast<float>(m | 1024), static_cast<int>(e) - 25);
     return s ? -v : v;
 }
 

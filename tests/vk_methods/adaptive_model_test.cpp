@@ -67,7 +67,7 @@ TEST(StengelHighlights, Eq8PeaksOnTheReflectionAndFallsOffWithGamma20) {
     const double away[3] = {0.0, 0.0, -1.0};
     EXPECT_DOUBLE_EQ(highlight_term(l, on, 0.7, 20.0), 0.7);
     EXPECT_NEAR(highlight_term(l, off, 1.0, 20.0), std::pow(std::cos(0.3), 20.0), 1e-12);
-    EXPECT_LT(highlight_term(l, off, 1.0, 20.0), 0.5);  // 17° off: already below half
+    EXPECT_LT(highlight_term(l, off, 1.0, 20.0), 0.5);          // 17° off: already below half
     EXPECT_DOUBLE_EQ(highlight_term(l, away, 1.0, 20.0), 0.0);  // negative influence clamped
 }
 
@@ -79,7 +79,7 @@ TEST(StengelSilhouettes, DepthAndNormalStepsRespondFlatDoesNot) {
     EXPECT_DOUBLE_EQ(silhouette_response(10.0, flat_depth, n, same, p), 0.0);
     const double step_depth[4] = {10.0, 20.0, 10.0, 10.0};  // occlusion edge
     EXPECT_DOUBLE_EQ(silhouette_response(10.0, step_depth, n, same, p), 1.0);
-    const double slight[4] = {10.0, 10.1, 10.0, 10.0};      // 1 % slope: 0.2 of a silhouette
+    const double slight[4] = {10.0, 10.1, 10.0, 10.0};  // 1 % slope: 0.2 of a silhouette
     EXPECT_NEAR(silhouette_response(10.0, slight, n, same, p), 0.2, 1e-9);
     const double crease[4][3] = {{0, 0, 1}, {1, 0, 0}, {0, 0, 1}, {0, 0, 1}};  // 90° crease
     EXPECT_DOUBLE_EQ(silhouette_response(10.0, flat_depth, n, crease, p), 1.0);

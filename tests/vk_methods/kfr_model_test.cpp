@@ -42,8 +42,7 @@ TEST(KfrMap, BufferIsReducedBySigma) {
 
 TEST(KfrMap, LIsTheLogOfTheFarthestCorner) {
     EXPECT_NEAR(kfr_log_max_radius(kW, kH, {960, 540}), std::log(std::hypot(960.0, 540.0)), 1e-12);
-    EXPECT_NEAR(kfr_log_max_radius(kW, kH, {100, 50}), std::log(std::hypot(1820.0, 1030.0)),
-                1e-12);
+    EXPECT_NEAR(kfr_log_max_radius(kW, kH, {100, 50}), std::log(std::hypot(1820.0, 1030.0)), 1e-12);
     EXPECT_NEAR(kfr_log_max_radius(kW, kH, {1900, 1000}), std::log(std::hypot(1900.0, 1000.0)),
                 1e-12);
 }

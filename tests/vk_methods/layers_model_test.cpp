@@ -105,9 +105,7 @@ TEST(GuenterLayers, HalfRateNeverUpdatesAFullResolutionLayerAtHalfRate) {
         const LayerPlan p = *optimise_layers(d, o);
         for (std::size_t i = 1; i < p.layers.size(); ++i)
             EXPECT_GT(p.layers[i].sampling_factor, 1.0) << "n " << n << " layer " << i;
-        if (n >= 3) {
-            EXPECT_LE(p.shaded_fraction(), 1.0 / 8.0) << n;
-        }
+        if (n >= 3) { EXPECT_LE(p.shaded_fraction(), 1.0 / 8.0) << n; }
     }
 }
 

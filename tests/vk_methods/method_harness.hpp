@@ -58,9 +58,12 @@ inline uint16_t to_half(float f) {
 inline float from_half(uint16_t h) {
     const uint32_t s = (h >> 15) & 1, e = (h >> 10) & 31, m = h & 1023;
     float v;
-    if (e == 0) v = std::ldexp(float(m), -24);
-    else if (e == 31) v = m ? NAN : INFINITY;
-    else v = std::ldexp(float(m | 1024), int(e) - 25);
+    if (e == 0)
+        v = std::ldexp(float(m), -24);
+    else if (e == 31)
+        v = m ? NAN : INFINITY;
+    else
+        v = std::ldexp(float(m | 1024), int(e) - 25);
     return s ? -v : v;
 }
 
@@ -70,17 +73,16 @@ class TestScene {
 public:
     TestScene(double tan_half_x, double tan_half_y) : tx_(tan_half_x), ty_(tan_half_y) {}
 
-    // Packed bytes of the 6 G-buffer images for a view of `w` x `h` covering `crop`.
-    std::array<std::vector<uint8_t>, 6> render(uint32_t w, uint32_t h, std::array<float, 4> crop,
-                                               std::array<float, 2> jitter) const {
-        std::array<std::vector<uint8_t>, 6> out;
+    // Packed bytes of the G-buffer images (gbuffer.hpp) for a view of `w` x `h` covering `crop`.
+    std::array<std::vector<uint8_t>, kGBufferImageCount> render(uint32_t w, uint32_t h,
+                                                                std::array<float, 4> crop,
+                                                                std::array<float, 2> jitter) const {
+        std::array<std::vector<uint8_t>, kGBufferImageCount> out;
         const std::size_t n = std::size_t(w) * h;
         out[0].resize(n * 16);
-        out[1].resize(n * 8);
+        out[1].resize(n * 16);
         out[2].resize(n * 4);
-        out[3].resize(n * 8);
-        out[4].resize(n * 4);
-        out[5].resize(n * 4);
+        out[3].resize(n * 4);
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) {
                 const double u = (x + 0.5 + jitter[0]) / w;
@@ -124,18 +126,16 @@ public:
                 const float pos[4] = {float(p.x), float(p.y), float(p.z), hit ? float(t) : 0.f};
                 std::memcpy(&out[0][i * 16], pos, 16);
                 const Vec3 nn = hit ? nrm : rd;
-                const uint16_t nh[4] = {to_half(float(nn.x)), to_half(float(nn.y)),
-                                        to_half(float(nn.z)), 0};
-                std::memcpy(&out[1][i * 8], nh, 8);
-                const uint8_t a[4] = {uint8_t(alb.x * 255 + 0.5), uint8_t(alb.y * 255 + 0.5),
-                                      uint8_t(alb.z * 255 + 0.5), 255};
-                std::memcpy(&out[2][i * 4], a, 4);
-                const uint16_t mh[4] = {to_half(mat), to_half(mat > 1 ? 0.3f : 0.8f), 0, 0};
-                std::memcpy(&out[3][i * 8], mh, 8);
+                SurfaceSample surface;
+                surface.normal = {float(nn.x), float(nn.y), float(nn.z)};
+                surface.albedo = {float(alb.x), float(alb.y), float(alb.z)};
+                surface.material = {mat, mat > 1 ? 0.3f : 0.8f, 0.f, 0.f};
+                const SurfaceTexel st = pack_surface(surface);
+                std::memcpy(&out[1][i * 16], st.data(), 16);
                 const float depth = hit ? float(1.0 - 0.1 / std::max(t, 0.1)) : 1.0f;
-                std::memcpy(&out[4][i * 4], &depth, 4);
+                std::memcpy(&out[2][i * 4], &depth, 4);
                 const uint16_t mo[2] = {to_half(-jitter[0]), to_half(-jitter[1])};
-                std::memcpy(&out[5][i * 4], mo, 4);
+                std::memcpy(&out[3][i * 4], mo, 4);
             }
         return out;
     }
@@ -193,21 +193,21 @@ public:
         in.gaze.y = gaze_y;
         in.time_s = time_s >= 0.0 ? time_s : double(frame) / 60.0;
         const FoveatorConfig& c = foveator_->config();
-        in.radians_per_pixel = float(2.0 * std::atan(std::tan(c.display.fov_h_deg * 3.14159265 /
-                                                               360.0)) / c.extent.width);
+        in.radians_per_pixel = float(
+            2.0 * std::atan(std::tan(c.display.fov_h_deg * 3.14159265 / 360.0)) / c.extent.width);
         struct Upload {
             GBufferRefs refs;
-            std::array<std::vector<uint8_t>, 6> data;
+            std::array<std::vector<uint8_t>, kGBufferImageCount> data;
         };
         std::vector<Upload> uploads;
         if (foveator_->needs_full_gbuffer())
-            uploads.push_back({foveator_->gbuffer(),
-                               scene_->render(c.extent.width, c.extent.height, {0, 0, 1, 1},
-                                              foveator_->jitter(frame))});
+            uploads.push_back(
+                {foveator_->gbuffer(), scene_->render(c.extent.width, c.extent.height, {0, 0, 1, 1},
+                                                      foveator_->jitter(frame))});
         for (const ViewRequest& v : foveator_->views(frame, in))
-            uploads.push_back({v.gbuffer, scene_->render(v.gbuffer.extent.width,
-                                                         v.gbuffer.extent.height, v.crop,
-                                                         v.jitter_px)});
+            uploads.push_back(
+                {v.gbuffer, scene_->render(v.gbuffer.extent.width, v.gbuffer.extent.height, v.crop,
+                                           v.jitter_px)});
         VkDeviceSize total = 0;
         for (const Upload& u : uploads)
             for (const auto& d : u.data) total += (d.size() + 15) / 16 * 16;
@@ -216,7 +216,7 @@ public:
         const double wall = foveator_->render_blocking(frame, in, [&](VkCommandBuffer cmd) {
             VkDeviceSize offset = 0;
             for (const Upload& u : uploads)
-                for (int i = 0; i < 6; ++i) {
+                for (int i = 0; i < kGBufferImageCount; ++i) {
                     std::memcpy(static_cast<uint8_t*>(staging.data()) + offset,
                                 u.data[std::size_t(i)].data(), u.data[std::size_t(i)].size());
                     VkBufferImageCopy r{};

@@ -3,8 +3,8 @@
 // (shaders/demo_shading.glsl) on this directory's analytic test scene. Prints a table and CSV.
 //   vk_methods_bench [--width 1920 --height 1080 --frames 10 --shading demo|test]
 // Time is the method's GPU time (timestamps) per frame; every configuration renders each
-// frame back to back and the speed-up is the median over frames of full/method (same load). PSNR/SSIM per eccentricity band
-// (acuity.hpp kBandEdgesDeg) averaged over the frames.
+// frame back to back and the speed-up is the median over frames of full/method (same load).
+// PSNR/SSIM per eccentricity band (acuity.hpp kBandEdgesDeg) averaged over the frames.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -50,8 +50,8 @@ void ssim_bands(const Frame& a, const Frame& b, const EyeDisplay& d, float gx, f
     const double c1 = 1e-4, c2 = 9e-4;
     auto lum = [](const Frame& f, uint32_t x, uint32_t y) {
         const std::size_t i = (std::size_t(y) * f.width + x) * 4;
-        return std::clamp(0.2126 * f.rgba[i] + 0.7152 * f.rgba[i + 1] + 0.0722 * f.rgba[i + 2],
-                          0.0, 1.0);
+        return std::clamp(0.2126 * f.rgba[i] + 0.7152 * f.rgba[i + 1] + 0.0722 * f.rgba[i + 2], 0.0,
+                          1.0);
     };
     for (uint32_t by = 0; by + 8 <= a.height; by += 8)
         for (uint32_t bx = 0; bx + 8 <= a.width; bx += 8) {
@@ -73,8 +73,8 @@ void ssim_bands(const Frame& a, const Frame& b, const EyeDisplay& d, float gx, f
             va /= 63;
             vb /= 63;
             cov /= 63;
-            const double s = ((2 * ma * mb + c1) * (2 * cov + c2)) /
-                             ((ma * ma + mb * mb + c1) * (va + vb + c2));
+            const double s =
+                ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
             const float e = eccentricity_deg(d, bx + 4.f, by + 4.f, gx, gy);
             for (int k = 0; k < kBandCount; ++k)
                 if (e >= kBandEdgesDeg[k] && e < kBandEdgesDeg[k + 1]) {
@@ -92,9 +92,12 @@ int main(int argc, char** argv) {
     bool cheap = false;  // --shading test: the tests' cheap shading, to expose fixed costs
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--shading")) cheap = !std::strcmp(argv[i + 1], "test");
-        if (!std::strcmp(argv[i], "--width")) w = uint32_t(std::atoi(argv[i + 1]));
-        else if (!std::strcmp(argv[i], "--height")) h = uint32_t(std::atoi(argv[i + 1]));
-        else if (!std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--width"))
+            w = uint32_t(std::atoi(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--height"))
+            h = uint32_t(std::atoi(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--frames"))
+            frames = std::atoi(argv[i + 1]);
     }
     auto dev = Device::create_headless({});
     if (!dev) {
@@ -166,8 +169,8 @@ int main(int argc, char** argv) {
             const EyeDisplay& d = harness[i]->foveator().config().display;
             const float px = gx * float(w), py = gy * float(h);
             for (int k = 0; k < kBandCount; ++k) {
-                const double p = psnr_band(out, ref, d, px, py, kBandEdgesDeg[k],
-                                           kBandEdgesDeg[k + 1]);
+                const double p =
+                    psnr_band(out, ref, d, px, py, kBandEdgesDeg[k], kBandEdgesDeg[k + 1]);
                 if (p > 0) {
                     se[i][std::size_t(k)] += std::pow(10.0, -p / 10.0);  // average the MSE
                     se_n[i][std::size_t(k)] += 1;
@@ -191,8 +194,8 @@ int main(int argc, char** argv) {
     std::printf("%-16s %9s %9s %8s %8s  PSNR dB per band 0-5/5-10/10-20/20-30/>30   SSIM\n",
                 "method", "gpu ms", "wall ms", "speedup", "shaded");
     for (const Row& r : rows) {
-        std::printf("%-16s %9.2f %9.2f %8.2f %8.3f ", r.label.c_str(), median(r.ms),
-                    median(r.wall), median(r.ratio), r.shaded);
+        std::printf("%-16s %9.2f %9.2f %8.2f %8.3f ", r.label.c_str(), median(r.ms), median(r.wall),
+                    median(r.ratio), r.shaded);
         for (double p : r.psnr) std::printf(" %6.1f", p);
         std::printf("  ");
         for (double s : r.ssim) std::printf(" %5.3f", s);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "../support/vk_test_device.hpp"
 #include "method_harness.hpp"
 #include "methods/adaptive_model.hpp"
 #include "methods/layers_model.hpp"
@@ -17,22 +18,14 @@ namespace {
 constexpr uint32_t kW = 320;
 constexpr uint32_t kH = 180;
 
-Device* device() {
-    static std::unique_ptr<Device> d = [] {
-        DeviceOptions o;
-        o.validation = true;
-        o.log = [](LogLevel level, const std::string& msg) {
-            if (level >= LogLevel::kError) std::fprintf(stderr, "[vk] %s\n", msg.c_str());
-        };
-        auto r = Device::create_headless(o);
-        return r ? std::make_unique<Device>(std::move(*r)) : std::unique_ptr<Device>();
-    }();
-    return d.get();
+test::TestDevice& shared() {
+    static test::TestDevice d = test::make_test_device(/*prefer_software=*/false);
+    return d;
 }
 
-#define REQUIRE_DEVICE()                                                       \
-    Device* dev = device();                                                    \
-    if (!dev) GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)"; \
+#define REQUIRE_DEVICE()                 \
+    FOVEA_ASSERT_TEST_DEVICE(shared());  \
+    Device* dev = shared().device.get(); \
     const uint64_t errors_before = dev->validation_errors()
 
 // At 320 px with a 1080p monitor's pixel density the frame spans only ±4°, where Guenter's
@@ -68,7 +61,7 @@ TEST_P(MethodGpu, ShadesFewerSamplesAndKeepsTheFoveaOfTheFullRateFrame) {
     EXPECT_GT(out.stats.shaded_fraction, 0.02);
     EXPECT_GE(fovea, 40.0);
     EXPECT_GE(all, 20.0);  // the periphery is approximate, but the frame is the same picture
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, MethodGpu, ::testing::Values("layers", "kfr", "adaptive"),
@@ -114,7 +107,7 @@ TEST(KfrGpu, NoWrapArtefactAlongTheSeamRay) {
     const double e_ref = std::max(mean_error(out, ref, side), mean_error(out, ref, below));
     std::printf("kfr seam error %.4f vs %.4f on the vertical rays\n", e_seam, e_ref);
     EXPECT_LE(e_seam, 1.5 * e_ref + 0.01);
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(KfrGpu, PolynomialKernelAndBadOptions) {
@@ -133,7 +126,7 @@ TEST(KfrGpu, PolynomialKernelAndBadOptions) {
     EXPECT_FALSE(bad.ok());
     MethodHarness bad_sigma(*dev, kW, kH, "kfr", {"kfr.sigma=0.5"});
     EXPECT_FALSE(bad_sigma.ok());
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
@@ -164,7 +157,7 @@ TEST(LayersGpu, NoHolesAndNoSeamAtTheLayerBoundaries) {
     std::printf("layers ring errors %.4f %.4f %.4f\n", e_in, e_mid, e_out);
     EXPECT_LE(e_in, e_mid + 1e-3);
     EXPECT_LE(e_mid, e_out * 1.5 + 1e-3);
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 // The views (layer crops) the method asks the host to render for this frame and gaze.
@@ -196,7 +189,7 @@ TEST(LayersGpu, GazeAtTheCornerKeepsFullRateFoveaWithCropsOnScreen) {
     const Frame out = m.render(0, gx, gy);
     const EyeDisplay& d = m.foveator().config().display;
     EXPECT_GE(psnr_band(out, ref, d, gx * kW, gy * kH, 0.0, 1.0), 40.0);
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 // Mask radii (display pixels) of the inner layers the method asks for this frame: half the
@@ -217,8 +210,8 @@ TEST(LayersGpu, InnerLayerIsTheFullRateFrameWhereItIsCompositedAlone) {
     MethodHarness full(*dev, kW, kH, "full");
     MethodHarness m(*dev, kW, kH, "layers", options_for("layers"));
     ASSERT_TRUE(m.ok()) << m.error();
-    const float gaze[][2] = {{0.5f, 0.5f}, {0.4137f, 0.5521f}, {0.9f, 0.1f}, {0.02f, 0.97f},
-                             {0.3f, 0.3f}, {0.6663f, 0.4049f}};
+    const float gaze[][2] = {{0.5f, 0.5f},   {0.4137f, 0.5521f}, {0.9f, 0.1f},
+                             {0.02f, 0.97f}, {0.3f, 0.3f},       {0.6663f, 0.4049f}};
     for (uint64_t f = 0; f < 6; ++f) {
         const float gx = gaze[f][0], gy = gaze[f][1];
         const std::vector<double> r = inner_radii(m, f, gx, gy);
@@ -240,7 +233,7 @@ TEST(LayersGpu, InnerLayerIsTheFullRateFrameWhereItIsCompositedAlone) {
         EXPECT_GT(n, 100) << f;
         EXPECT_LE(worst, 2e-3) << "frame " << f << ", gaze " << gx << "," << gy;
     }
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(LayersGpu, CoarseLayersAreRegisteredWithTheDisplay) {
@@ -289,7 +282,7 @@ TEST(LayersGpu, CoarseLayersAreRegisteredWithTheDisplay) {
         EXPECT_EQ(best_dx, 0) << "layer " << layer << " error " << unshifted << " vs " << best;
         EXPECT_EQ(best_dy, 0) << "layer " << layer << " error " << unshifted << " vs " << best;
     }
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(LayersGpu, PortraitFrameIsFoveatedLikeTheLandscapeOne) {
@@ -317,7 +310,7 @@ TEST(LayersGpu, PortraitFrameIsFoveatedLikeTheLandscapeOne) {
     EXPECT_NEAR(out.stats.shaded_fraction, wide.stats.shaded_fraction,
                 0.05 * wide.stats.shaded_fraction);
     EXPECT_LT(out.stats.shaded_fraction, 0.9);
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(LayersGpu, QualityBOn1080pDesktopShadesAtMostAnEighthAtHalfRate) {
@@ -346,7 +339,7 @@ TEST(LayersGpu, QualityBOn1080pDesktopShadesAtMostAnEighthAtHalfRate) {
                 shaded, 1.0 / shaded, plan->shaded_fraction());
     EXPECT_LE(shaded, 1.0 / 8.0);
     EXPECT_NEAR(shaded, plan->shaded_fraction(), 0.03 * plan->shaded_fraction());
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 // Gaze sweeping and jumping with the reference alongside: at every layer's edge the error is no
@@ -412,7 +405,7 @@ TEST(LayersGpu, GazeSweepAndJumpsLeaveNoSeamBetweenLayers) {
     EXPECT_EQ(seams, 0);
     EXPECT_EQ(outside_crop, 0) << "layer masks reaching past their crops";
     EXPECT_EQ(bad_frames, 0) << "frames with NaN/inf or uncovered pixels";
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(AdaptiveGpu, SamplingPatternIsTemporallyStable) {
@@ -440,12 +433,13 @@ TEST(AdaptiveGpu, SamplingPatternIsTemporallyStable) {
                         static_cast<unsigned long long>(cur.stats.shaded_samples));
             if (f >= 4) {
                 EXPECT_NEAR(double(cur.stats.shaded_samples), double(prev.stats.shaded_samples),
-                            0.01 * double(prev.stats.shaded_samples)) << f;
+                            0.01 * double(prev.stats.shaded_samples))
+                    << f;
             }
             prev = cur;
         }
     }
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 TEST(AdaptiveGpu, ConstantProbabilityPicksTheSamplesOfTheCpuPattern) {
@@ -463,7 +457,7 @@ TEST(AdaptiveGpu, ConstantProbabilityPicksTheSamplesOfTheCpuPattern) {
         for (uint32_t x = 0; x < kW; ++x) expected += methods::sample_threshold(x, y, 7) < 0.3;
     EXPECT_EQ(out.stats.shaded_samples, expected);
     EXPECT_NEAR(double(expected) / (kW * kH), 0.3, 0.01);
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 // Gaze sweeping across the screen and jumping (saccades), far off screen and NaN included.
@@ -480,7 +474,7 @@ TEST_P(MethodGpu, GazeSweepAndJumpsStayFiniteAndCovered) {
         if (f % 50 < 40) {  // smooth sweep
             gx = 0.5f + 0.48f * std::sin(f * 0.05f);
             gy = 0.5f + 0.45f * std::cos(f * 0.031f);
-        } else {            // saccadic jumps, corners, off screen, NaN
+        } else {  // saccadic jumps, corners, off screen, NaN
             const float jumps[10][2] = {{0, 0},         {1, 1},      {0, 1}, {1, 0},
                                         {0.5f, 0.5f},   {-2, 0.5f},  {3, 3}, {NAN, 0.5f},
                                         {0.99f, 0.01f}, {0.2f, 0.8f}};
@@ -496,7 +490,7 @@ TEST_P(MethodGpu, GazeSweepAndJumpsStayFiniteAndCovered) {
             }
     }
     EXPECT_EQ(bad, 0u) << "frames with NaN/inf or uncovered pixels";
-    EXPECT_EQ(dev->validation_errors(), errors_before) << "validation errors";
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*dev, errors_before);
 }
 
 }  // namespace

@@ -26,19 +26,9 @@ struct Row {
     std::string label;
     std::vector<double> gpu_ms, wall_ms;
     double shaded = 0, skipped = 0, reused = 0, background = 0, flat = 0;
-    double psnr_fovea = 0, psnr_frame = 0;
+    demo::ErrorPool errors;  // PSNR pooled over the frames
     int frames = 0;
 };
-
-double frame_psnr(const demo::Rgb8& a, const demo::Rgb8& b) {
-    double se = 0;
-    for (size_t i = 0; i < a.rgb.size(); ++i) {
-        const double d = (double(a.rgb[i]) - double(b.rgb[i])) / 255.0;
-        se += d * d;
-    }
-    const double mse = se / double(a.rgb.size());
-    return mse <= 1e-12 ? 100.0 : std::min(100.0, 10.0 * std::log10(1.0 / mse));
-}
 
 }  // namespace
 
@@ -49,11 +39,16 @@ int main(int argc, char** argv) {
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string k = argv[i];
         const char* v = argv[i + 1];
-        if (k == "--width") width = uint32_t(std::atoi(v));
-        else if (k == "--height") height = uint32_t(std::atoi(v));
-        else if (k == "--frames") frames = std::atoi(v);
-        else if (k == "--dt") dt = std::atof(v);
-        else if (k == "--jitter") jitter = uint32_t(std::atoi(v));
+        if (k == "--width")
+            width = uint32_t(std::atoi(v));
+        else if (k == "--height")
+            height = uint32_t(std::atoi(v));
+        else if (k == "--frames")
+            frames = std::atoi(v);
+        else if (k == "--dt")
+            dt = std::atof(v);
+        else if (k == "--jitter")
+            jitter = uint32_t(std::atoi(v));
         else {
             std::fprintf(stderr, "unknown option %s\n", k.c_str());
             return 2;
@@ -120,8 +115,9 @@ int main(int argc, char** argv) {
                 const vk::FrameStats s = f.stats();
                 const demo::Rgb8 img = demo::tonemap(device->read_image(f.output()), width, height);
                 if (k == 0) reference = img;
-                const demo::ErrorFigures e = demo::compare(img, reference, display, s.gaze, foveal_deg);
                 Row& r = rows[k];
+                r.errors.add(img, reference,
+                             demo::band_labels(width, height, display, s.gaze, foveal_deg));
                 r.gpu_ms.push_back(s.method_gpu_ms);
                 r.wall_ms.push_back(wall);
                 r.shaded += s.shaded_fraction / frames;
@@ -129,26 +125,26 @@ int main(int argc, char** argv) {
                 r.reused += double(s.reused_tiles) / frames;
                 r.background += double(s.background_tiles) / frames;
                 r.flat += double(s.flat_tiles) / frames;
-                r.psnr_fovea += e.psnr_fovea_db / frames;
-                r.psnr_frame += frame_psnr(img, reference) / frames;
-                std::printf("%s frame %d %-11s %6.1f ms gpu %6.1f ms wall, shaded %.3f, skipped "
-                            "%u reused %u background %u flat %u\n",
-                            still ? "still" : "path", i, configs[k].label.c_str(),
-                            s.method_gpu_ms, wall, s.shaded_fraction, s.skipped_tiles,
-                            s.reused_tiles, s.background_tiles, s.flat_tiles);
+                std::printf(
+                    "%s frame %d %-11s %6.1f ms gpu %6.1f ms wall, shaded %.3f, skipped "
+                    "%u reused %u background %u flat %u\n",
+                    still ? "still" : "path", i, configs[k].label.c_str(), s.method_gpu_ms, wall,
+                    s.shaded_fraction, s.skipped_tiles, s.reused_tiles, s.background_tiles,
+                    s.flat_tiles);
                 std::fflush(stdout);
             }
         }
-        std::printf("\n%s camera, %ux%u, %d frames, jitter %u (means over frames; ms medians)\n",
-                    still ? "still" : "moving", width, height, frames, jitter);
-        std::printf("%-11s %9s %9s %8s %8s %8s %8s %8s %10s %10s\n", "config", "gpu_ms",
-                    "wall_ms", "shaded", "skipped", "reused", "bg", "flat", "fovea_dB",
-                    "frame_dB");
+        std::printf(
+            "\n%s camera, %ux%u, %d frames, jitter %u (means over frames, PSNR pooled over "
+            "them; ms medians)\n",
+            still ? "still" : "moving", width, height, frames, jitter);
+        std::printf("%-11s %9s %9s %8s %8s %8s %8s %8s %10s %10s\n", "config", "gpu_ms", "wall_ms",
+                    "shaded", "skipped", "reused", "bg", "flat", "fovea_dB", "frame_dB");
         for (Row& r : rows)
             std::printf("%-11s %9.1f %9.1f %8.3f %8.1f %8.1f %8.1f %8.1f %10.2f %10.2f\n",
-                        r.label.c_str(), demo::median(r.gpu_ms), demo::median(r.wall_ms),
-                        r.shaded, r.skipped, r.reused, r.background, r.flat, r.psnr_fovea,
-                        r.psnr_frame);
+                        r.label.c_str(), demo::median(r.gpu_ms), demo::median(r.wall_ms), r.shaded,
+                        r.skipped, r.reused, r.background, r.flat, r.errors.figures().psnr_fovea_db,
+                        r.errors.figures().psnr_db);
         std::printf("\n");
     }
     return 0;

@@ -47,12 +47,13 @@ struct View {
     uint32_t sky_rows = 0;    // rows from the top without geometry
 };
 
-// The six G-buffer images of one frame, packed as the formats of gbuffer.hpp.
-std::array<std::vector<uint8_t>, 6> make_gbuffer(const View& v, std::array<float, 2> jitter) {
-    std::array<std::vector<uint8_t>, 6> out;
+// The G-buffer images of one frame, packed as the formats of gbuffer.hpp.
+std::array<std::vector<uint8_t>, kGBufferImageCount> make_gbuffer(const View& v,
+                                                                  std::array<float, 2> jitter) {
+    std::array<std::vector<uint8_t>, kGBufferImageCount> out;
     const size_t n = size_t{kW} * kH;
-    const size_t bytes[6] = {16, 8, 4, 8, 4, 4};
-    for (int i = 0; i < 6; ++i) out[i].assign(n * bytes[i], 0);
+    const size_t bytes[kGBufferImageCount] = {16, 16, 4, 4};
+    for (int i = 0; i < kGBufferImageCount; ++i) out[i].assign(n * bytes[i], 0);
     for (uint32_t y = 0; y < kH; ++y)
         for (uint32_t x = 0; x < kW; ++x) {
             const size_t i = size_t{y} * kW + x;
@@ -61,7 +62,7 @@ std::array<std::vector<uint8_t>, 6> make_gbuffer(const View& v, std::array<float
             const bool sky = y < v.sky_rows;
             float pos[4] = {0, 0, 0, 0}, depth = 1.f, mat = 0.f;
             float nrm[3];
-            uint8_t alb[4] = {0, 0, 0, 255};
+            uint8_t alb[3] = {0, 0, 0};
             if (sky) {
                 const float dy = 1.f - sy / kH;
                 const float len = std::sqrt(dy * dy + 1.f);
@@ -78,17 +79,17 @@ std::array<std::vector<uint8_t>, 6> make_gbuffer(const View& v, std::array<float
                 alb[0] = a, alb[1] = uint8_t(a * 0.8f), alb[2] = uint8_t(a * 0.6f);
             }
             std::memcpy(&out[0][i * 16], pos, 16);
-            const uint16_t nh[4] = {float_to_half(nrm[0]), float_to_half(nrm[1]),
-                                    float_to_half(nrm[2]), 0};
-            std::memcpy(&out[1][i * 8], nh, 8);
-            std::memcpy(&out[2][i * 4], alb, 4);
-            const uint16_t mh[4] = {float_to_half(mat), 0, 0, 0};
-            std::memcpy(&out[3][i * 8], mh, 8);
-            std::memcpy(&out[4][i * 4], &depth, 4);
+            SurfaceSample s;
+            s.normal = {nrm[0], nrm[1], nrm[2]};
+            for (int c = 0; c < 3; ++c) s.albedo[size_t(c)] = float(alb[c]) / 255.f;
+            s.material[0] = mat;
+            const SurfaceTexel t = pack_surface(s);
+            std::memcpy(&out[1][i * 16], t.data(), 16);
+            std::memcpy(&out[2][i * 4], &depth, 4);
             // Current minus previous position of the jittered sample (previous view unjittered).
             const uint16_t mo[2] = {float_to_half(-jitter[0] - (v.pan_px - v.prev_pan_px)),
                                     float_to_half(-jitter[1])};
-            std::memcpy(&out[5][i * 4], mo, 4);
+            std::memcpy(&out[3][i * 4], mo, 4);
         }
     return out;
 }
@@ -129,7 +130,8 @@ public:
 
     Shot render(uint64_t frame, const View& v, float gaze_x, float gaze_y, bool cut = false) {
         const auto g = make_gbuffer(v, f_->jitter(frame));
-        for (int i = 0; i < 6; ++i) upload_image(device_, f_->gbuffer().images[size_t(i)], g[size_t(i)]);
+        for (int i = 0; i < kGBufferImageCount; ++i)
+            upload_image(device_, f_->gbuffer().images[size_t(i)], g[size_t(i)]);
         FrameInputs in;
         in.gaze.x = gaze_x;
         in.gaze.y = gaze_y;
@@ -162,8 +164,8 @@ private:
 double psnr(const Shot& a, const Shot& ref) {
     double se = 0;
     for (size_t i = 0; i < a.rgb.size(); ++i) {
-        const double d = std::clamp(double(a.rgb[i]), 0.0, 1.0) -
-                         std::clamp(double(ref.rgb[i]), 0.0, 1.0);
+        const double d =
+            std::clamp(double(a.rgb[i]), 0.0, 1.0) - std::clamp(double(ref.rgb[i]), 0.0, 1.0);
         se += d * d;
     }
     const double mse = se / double(a.rgb.size());
@@ -172,8 +174,8 @@ double psnr(const Shot& a, const Shot& ref) {
 
 uint32_t shaded_tiles(const FrameStats& s) { return s.tiles[0] + s.tiles[1] + s.tiles[2]; }
 
-#define FOVEA_HOST(name, ...)                      \
-    Host name(*device, __VA_ARGS__);               \
+#define FOVEA_HOST(name, ...)        \
+    Host name(*device, __VA_ARGS__); \
     ASSERT_TRUE(name.ok()) << name.error()
 
 // Half the frame sky: half the host shading calls (the environment function does the rest),
@@ -203,11 +205,12 @@ TEST(CpsSkip, HalfSkyFrameShadesHalfTheSamples) {
     EXPECT_EQ(b0.stats.skipped_tiles, 0u);
     // The environment function equals the shading function on the sky: the same picture.
     EXPECT_GE(psnr(b, b0), 60.0);
-    std::printf("half sky / no sky: samples %.3f (unskipped %.3f), method GPU ms %.2f / %.2f "
-                "(unskipped %.2f / %.2f)\n",
-                ratio, double(b0.stats.shaded_samples) / double(a0.stats.shaded_samples),
-                b.stats.method_gpu_ms, a.stats.method_gpu_ms, b0.stats.method_gpu_ms,
-                a0.stats.method_gpu_ms);
+    std::printf(
+        "half sky / no sky: samples %.3f (unskipped %.3f), method GPU ms %.2f / %.2f "
+        "(unskipped %.2f / %.2f)\n",
+        ratio, double(b0.stats.shaded_samples) / double(a0.stats.shaded_samples),
+        b.stats.method_gpu_ms, a.stats.method_gpu_ms, b0.stats.method_gpu_ms,
+        a0.stats.method_gpu_ms);
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
 
@@ -225,8 +228,7 @@ TEST(CpsSkip, StillCameraConvergesToNearZeroShading) {
     for (size_t i = 2; i < shots.size(); ++i) {
         const FrameStats& s = shots[i].stats;
         EXPECT_GE(s.reused_tiles, tiles - tiles / 30 - 2) << "frame " << i;
-        EXPECT_LT(s.shaded_fraction, 0.05 * shots[0].stats.shaded_fraction + 0.01)
-            << "frame " << i;
+        EXPECT_LT(s.shaded_fraction, 0.05 * shots[0].stats.shaded_fraction + 0.01) << "frame " << i;
         EXPECT_EQ(shaded_tiles(s) + s.skipped_tiles, tiles);
         EXPECT_GE(psnr(shots[i], shots[1]), 60.0) << "frame " << i;  // nothing changed
     }
@@ -314,9 +316,10 @@ TEST(CpsSkip, ErrorStaysWithinHalfADecibelOfTheUnskippedResult) {
         flat += s.stats.flat_tiles;
         no_detail += s.stats.no_detail_tiles;
     }
-    std::printf("PSNR vs full rate: skip %.2f dB, unskipped %.2f dB; samples %.3f of unskipped; "
-                "flat tiles %u, no-detail tiles %u\n",
-                db_skip, db_plain, double(samples_skip) / double(samples_plain), flat, no_detail);
+    std::printf(
+        "PSNR vs full rate: skip %.2f dB, unskipped %.2f dB; samples %.3f of unskipped; "
+        "flat tiles %u, no-detail tiles %u\n",
+        db_skip, db_plain, double(samples_skip) / double(samples_plain), flat, no_detail);
     EXPECT_GE(db_skip, db_plain - 0.5);
     EXPECT_LT(samples_skip, samples_plain * 7 / 10);
     EXPECT_GT(flat, 0u);

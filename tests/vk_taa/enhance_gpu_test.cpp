@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 
 #include "enhance_model.hpp"
 #include "gpu_harness.hpp"
@@ -52,8 +52,10 @@ TEST_F(GpuContrast, MatchesTheCpuModelAcrossShadingRates) {
             worst = std::max(worst, std::fabs(g - cpu.at(x, y)));
             changed += std::fabs(cpu.at(x, y) - luma.at(x, y));
         }
-    std::printf("GPU vs CPU contrast enhancement: max display difference %.5f; mean change by "
-                "the enhancement %.5f\n", worst, changed / (w * h));
+    std::printf(
+        "GPU vs CPU contrast enhancement: max display difference %.5f; mean change by "
+        "the enhancement %.5f\n",
+        worst, changed / (w * h));
     EXPECT_LT(worst, 2.0f / 255.0f);
     EXPECT_GT(changed / (w * h), 0.5 / 255.0);  // the pass really changed the periphery
     for (int y = 0; y < h; ++y) {  // S_t = 0: untouched (up to the half-float round trip)
@@ -83,7 +85,7 @@ TEST_F(GpuContrast, HdrZerosAndNonFiniteInputStayFinite) {
 namespace fovea::vk {
 std::unique_ptr<PostPass> make_taa_pass();
 std::unique_ptr<PostPass> make_noise_pass();
-}
+}  // namespace fovea::vk
 
 namespace fovea::vk::post {
 namespace {
@@ -124,8 +126,10 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
             const double c0 = cpu_ms();
             run.run(pass, 2);
             cpu.push_back((cpu_ms() - c0) / 2.0);
-            ms.push_back(std::chrono::duration<double, std::milli>(
-                             std::chrono::steady_clock::now() - t0).count() / 2.0);
+            ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count() /
+                2.0);
         }
         std::sort(ms.begin(), ms.end());
         std::sort(cpu.begin(), cpu.end());
@@ -157,14 +161,16 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
     auto noise = make_noise_pass();
     ASSERT_TRUE(r3.init(*noise).ok());
     const double noise_ms = measure(*noise, r3);
-    std::printf("post chain at %dx%d on %s: taa %.1f ms, contrast %.1f ms, taa+contrast %.1f "
-                "ms/frame; noise (16 impulses/kernel) %.1f ms\n", w, h, device_->name().c_str(),
-                taa_ms, con_ms, taa_ms + con_ms, noise_ms);
+    std::printf(
+        "post chain at %dx%d on %s: taa %.1f ms, contrast %.1f ms, taa+contrast %.1f "
+        "ms/frame; noise (16 impulses/kernel) %.1f ms\n",
+        w, h, device_->name().c_str(), taa_ms, con_ms, taa_ms + con_ms, noise_ms);
     std::printf("process CPU per frame: taa %.1f ms, contrast %.1f ms, noise %.1f ms\n", taa_cpu,
                 con_cpu, cpu_per_frame);
-    std::printf("S_t per 16x16 tile (0, 1/2, 1): taa %.1f ms, contrast %.1f ms/frame; process "
-                "CPU: taa %.1f ms, contrast %.1f ms\n", taa_tiles_ms, con_tiles_ms, taa_tiles_cpu,
-                con_tiles_cpu);
+    std::printf(
+        "S_t per 16x16 tile (0, 1/2, 1): taa %.1f ms, contrast %.1f ms/frame; process "
+        "CPU: taa %.1f ms, contrast %.1f ms\n",
+        taa_tiles_ms, con_tiles_ms, taa_tiles_cpu, con_tiles_cpu);
 }
 
 }  // namespace

@@ -36,15 +36,15 @@ TEST(Thibos, InterpolatesTariqTable3) {
 TEST(NoiseBand, FollowsTariqEquations1To4) {
     const NoiseBand b = noise_band(20.0f, 2.0f, 40.0f, 2.21f);
     EXPECT_NEAR(b.f_low, 3.0f / (2.0f * 3.14159265f * 2.0f), 1e-5f);  // blur cut-off dominates
-    EXPECT_FLOAT_EQ(b.f_high, 0.5f);                                 // display Nyquist
+    EXPECT_FLOAT_EQ(b.f_high, 0.5f);                                  // display Nyquist
     EXPECT_NEAR(b.mu_n, 0.5f * (std::log(b.f_low) + std::log(0.5f)), 1e-6f);
     EXPECT_NEAR(b.sigma_n, 0.5f * 2.21f * (b.mu_n - std::log(b.f_low)), 1e-6f);
     const NoiseBand huge = noise_band(20.0f, 1e9f, 40.0f, 2.21f);
     EXPECT_FLOAT_EQ(huge.f_low, 5.5f / 40.0f);  // Thibos T_L dominates
     EXPECT_FALSE(huge.empty());
-    EXPECT_TRUE(noise_band(20.0f, 0.0f, 40.0f, 2.21f).empty());   // σ → 0: nothing to restore
+    EXPECT_TRUE(noise_band(20.0f, 0.0f, 40.0f, 2.21f).empty());  // σ → 0: nothing to restore
     EXPECT_TRUE(noise_band(20.0f, 1e-9f, 40.0f, 2.21f).empty());
-    EXPECT_TRUE(noise_band(0.0f, 3.0f, 10.0f, 2.21f).empty());    // T_L above Nyquist
+    EXPECT_TRUE(noise_band(0.0f, 3.0f, 10.0f, 2.21f).empty());  // T_L above Nyquist
 }
 
 TEST(NoiseBand, SampledFrequenciesStayInsideTheBandAndCentreOnTheLogMidpoint) {
@@ -63,9 +63,7 @@ TEST(NoiseBand, SampledFrequenciesStayInsideTheBandAndCentreOnTheLogMidpoint) {
 TEST(ErfApprox, MatchesStdErfAndInverts) {
     for (float x = -3.0f; x <= 3.0f; x += 0.25f) {
         EXPECT_NEAR(approx_erf(x), std::erf(x), 2e-6f);
-        if (std::fabs(x) < 2.5f) {
-            EXPECT_NEAR(approx_erfinv(std::erf(x)), x, 2e-3f);
-        }
+        if (std::fabs(x) < 2.5f) { EXPECT_NEAR(approx_erfinv(std::erf(x)), x, 2e-3f); }
     }
 }
 
@@ -82,8 +80,8 @@ TEST(Pyramids, LaplacianReconstructsAndMinMaxBoundTheFootprint) {
         for (int y = 0; y < up.height; ++y)
             for (int x = 0; x < up.width; ++x)
                 up.at(x, y) = lap[std::size_t(l)].at(x, y) +
-                    sample_bilinear(rec, (x + 0.5f) / up.width * rec.width,
-                                    (y + 0.5f) / up.height * rec.height);
+                              sample_bilinear(rec, (x + 0.5f) / up.width * rec.width,
+                                              (y + 0.5f) / up.height * rec.height);
         rec = std::move(up);
     }
     for (std::size_t i = 0; i < z.data.size(); ++i) ASSERT_NEAR(rec.data[i], z.data[i], 1e-5f);
@@ -141,7 +139,8 @@ TEST(ContrastEnhance, RestoresPeripheralRmsContrastWithin10Percent) {
             const int a = int(s);
             const int b = std::min(a + 1, 20);
             const float t = s - float(a);
-            fov.at(x, y) = stack[std::size_t(a)].at(x, y) * (1 - t) + stack[std::size_t(b)].at(x, y) * t;
+            fov.at(x, y) =
+                stack[std::size_t(a)].at(x, y) * (1 - t) + stack[std::size_t(b)].at(x, y) * t;
         }
     const Image enh = contrast_enhance(fov, sigma, calibration_for_blur_rate(blur_rate).f_e);
     const auto c_full = rms_contrast_by_eccentricity(sharp, bands, 16);

@@ -5,13 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "../support/vk_test_device.hpp"
 #include "fovea/vk/acuity.hpp"
 #include "fovea/vk/device.hpp"
 #include "gpu.hpp"
@@ -45,7 +46,8 @@ inline void upload(const Device& dev, const vk::Image& dst, const post::Image& i
     Buffer staging(dev, texels * ch * (half ? 2 : 4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
     for (size_t i = 0; i < texels; ++i) {
         for (int c = 0; c < ch; ++c) {
-            const float v = c < img.channels ? img.data[i * img.channels + c] : (c == 3 ? 1.f : 0.f);
+            const float v =
+                c < img.channels ? img.data[i * img.channels + c] : (c == 3 ? 1.f : 0.f);
             if (half) {
                 static_cast<uint16_t*>(staging.data())[i * ch + c] = float_to_half(v);
             } else {
@@ -83,33 +85,17 @@ inline post::Image download(const Device& dev, const ImageRef& src, int keep_cha
     return img;
 }
 
-// A headless device (validation on when FOVEA_VK_VALIDATION) or nullptr + skip reason.
-inline std::unique_ptr<Device> make_device(std::string& why) {
-    DeviceOptions o;
-    o.validation = FOVEA_TEST_VALIDATION;
-    o.prefer_software = true;
-    auto d = Device::create_headless(o);
-    if (!d) {
-        why = d.error().message;
-        return nullptr;
-    }
-    return std::make_unique<Device>(std::move(*d));
-}
-
-// Runs one post pass over frames the test supplies; owns the input/output images.
 // Fixture of the GPU pass tests: a device (skips cleanly without one) whose validation layers
-// must report no error by the end of the test.
+// must report no error by the end of the test (validation as FOVEA_VK_VALIDATION says).
 class GpuPassTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        std::string why;
-        device_ = make_device(why);
-        if (!device_) GTEST_SKIP() << "no Vulkan device: " << why;
+        test::TestDevice t = test::make_test_device();
+        FOVEA_ASSERT_TEST_DEVICE(t);
+        device_ = std::move(t.device);
     }
     void TearDown() override {
-        if (device_) {
-            EXPECT_EQ(device_->validation_errors(), 0u) << "Vulkan validation errors";
-        }
+        if (device_) FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*device_, 0u);
     }
     std::unique_ptr<Device> device_;
 };
@@ -129,8 +115,7 @@ public:
     }
 
     Result<void> init(PostPass& pass) {
-        const ModuleContext ctx{dev_, config_, extent_, VK_NULL_HANDLE, gbuffer_, rate_tiles_,
-                                stats_};
+        const ModuleContext ctx{dev_, config_, extent_, VK_NULL_HANDLE, gbuffer_, rate_tiles_};
         return pass.init(ctx);
     }
 
@@ -164,9 +149,9 @@ public:
         }
         dev_.submit_and_wait([&](VkCommandBuffer cmd) {
             for (int i = 0; i < frames; ++i) {
-                const PostFrame f{cmd,       VK_NULL_HANDLE, frame_++,      u,
-                                  inputs,    gaze,           color_in_.ref(), color_out_.ref(),
-                                  depth_.ref(), motion_.ref(), rate_.ref(), jitter_};
+                const PostFrame f{cmd,          VK_NULL_HANDLE, frame_++,        u,
+                                  inputs,       gaze,           color_in_.ref(), color_out_.ref(),
+                                  depth_.ref(), motion_.ref(),  rate_.ref(),     jitter_};
                 pass.record(f);
                 compute_barrier(cmd);
                 inputs.camera_cut = false;
@@ -180,7 +165,9 @@ public:
     // The display the frame uniforms describe (eccentricity, pixels per degree); none by default.
     void set_display(const EyeDisplay& d) { display_ = d; }
 
-    post::Image output(int channels = 3) const { return download(dev_, color_out_.ref(), channels); }
+    post::Image output(int channels = 3) const {
+        return download(dev_, color_out_.ref(), channels);
+    }
     FoveatorConfig& config() { return config_; }
     post::Image rate() const { return download(dev_, rate_.ref(), 1); }
 
@@ -190,7 +177,6 @@ private:
     FoveatorConfig config_;
     GBufferRefs gbuffer_;
     ImageRef rate_tiles_;
-    Buffer stats_;
     vk::Image color_in_, color_out_, depth_, motion_, rate_;
     uint64_t frame_ = 0;
     std::array<float, 2> jitter_{0.f, 0.f};

@@ -31,8 +31,9 @@ TEST(Atd, ZeroForAPerfectlyBackProjectedPanAndPositiveWithoutIt) {
 
 TEST(Atd, MeasuresAConstantFlickerExactly) {
     const Image a(8, 8, 3, 1.0f), b(8, 8, 3, 3.0f);  // tone-mapped 0.5 and 0.75
-    EXPECT_NEAR(average_temporal_difference(tonemapped_luminance(a), tonemapped_luminance(b),
-                                            nullptr).mean, 0.25, 1e-6);
+    EXPECT_NEAR(
+        average_temporal_difference(tonemapped_luminance(a), tonemapped_luminance(b), nullptr).mean,
+        0.25, 1e-6);
 }
 
 TEST(HaarWavelet, CheckerboardEnergyLivesAtTheFinestLevel) {

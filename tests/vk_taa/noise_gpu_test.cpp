@@ -63,8 +63,7 @@ Scene make_scene(const Image& display_luma, const Image& rate, const EyeDisplay&
 Image gpu_noise(const Device& dev, const Scene& s, const EyeDisplay& d, float gx, float gy,
                 int impulses) {
     const int w = s.colour.width, h = s.colour.height;
-    PassRunner run(dev, {uint32_t(w), uint32_t(h)},
-                   {"noise.impulses=" + std::to_string(impulses)});
+    PassRunner run(dev, {uint32_t(w), uint32_t(h)}, {"noise.impulses=" + std::to_string(impulses)});
     run.set_display(d);
     auto pass = make_noise_pass();
     EXPECT_TRUE(run.init(*pass).ok());
@@ -73,16 +72,21 @@ Image gpu_noise(const Device& dev, const Scene& s, const EyeDisplay& d, float gx
     const Image out = run.output();
     Image change(w, h, 1);
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) change.at(x, y) = display_encode(out.at(x, y, 1)) - s.luma.at(x, y);
+        for (int x = 0; x < w; ++x)
+            change.at(x, y) = display_encode(out.at(x, y, 1)) - s.luma.at(x, y);
     return change;
 }
 
 TEST_F(GpuNoise, MatchesTheCpuModelAcrossEccentricities) {
     // ppd 12 exercises T_L (the band opens between 18 and 23 degrees), ppd 48 T_H (F_H < Nyquist).
     // n = 75 leaves partial 16x16 tiles at the right and bottom edges (shared-memory staging).
-    struct Case { int n; float ppd, ecc; int impulses; };
-    for (const Case c : {Case{64, 12.0f, 20.0f, 12}, Case{64, 48.0f, 22.0f, 32},
-                         Case{75, 24.0f, 25.0f, 64}}) {
+    struct Case {
+        int n;
+        float ppd, ecc;
+        int impulses;
+    };
+    for (const Case c :
+         {Case{64, 12.0f, 20.0f, 12}, Case{64, 48.0f, 22.0f, 32}, Case{75, 24.0f, 25.0f, 64}}) {
         const int n = c.n;
         const EyeDisplay d = display_with_ppd(n, c.ppd);
         const float gx = gaze_x_for_eccentricity(n, c.ppd, c.ecc), gy = 0.5f * n;
@@ -100,18 +104,20 @@ TEST_F(GpuNoise, MatchesTheCpuModelAcrossEccentricities) {
         std::size_t worst_at = 0;
         for (std::size_t i = 0; i < cpu.data.size(); ++i) {
             // The pass clamps the display value to [0, 1] after adding the noise.
-            const float expected = std::clamp(s.luma.data[i] + cpu.data[i], 0.0f, 1.0f) - s.luma.data[i];
+            const float expected =
+                std::clamp(s.luma.data[i] + cpu.data[i], 0.0f, 1.0f) - s.luma.data[i];
             const float diff = gpu.data[i] - expected;
             err2 += double(diff) * diff;
             ref2 += double(expected) * expected;
             if (std::fabs(diff) > worst) worst = std::fabs(diff), worst_at = i;
         }
-        std::printf("worst at (%zu, %zu): gpu %.5f cpu %.5f luma %.5f\n", worst_at % n, worst_at / n,
-                    gpu.data[worst_at], cpu.data[worst_at], s.luma.data[worst_at]);
+        std::printf("worst at (%zu, %zu): gpu %.5f cpu %.5f luma %.5f\n", worst_at % n,
+                    worst_at / n, gpu.data[worst_at], cpu.data[worst_at], s.luma.data[worst_at]);
         const double rms = std::sqrt(ref2 / double(cpu.data.size()));
-        std::printf("ppd %.0f, ecc %.0f deg, %d impulses: noise RMS %.5f, GPU-CPU RMS %.6f, "
-                    "max %.5f\n", c.ppd, c.ecc, c.impulses, rms,
-                    std::sqrt(err2 / double(cpu.data.size())), worst);
+        std::printf(
+            "ppd %.0f, ecc %.0f deg, %d impulses: noise RMS %.5f, GPU-CPU RMS %.6f, "
+            "max %.5f\n",
+            c.ppd, c.ecc, c.impulses, rms, std::sqrt(err2 / double(cpu.data.size())), worst);
         EXPECT_GT(rms, 0.5 / 255.0) << "the CPU model should add visible noise here";
         EXPECT_LT(std::sqrt(err2 / ref2), 0.05) << "relative RMS difference";
         EXPECT_LT(worst, 2.0f / 255.0f);
@@ -145,9 +151,11 @@ TEST_F(GpuNoise, AddsEnergyOnlyInsideTheBandOnABlurredZonePlate) {
     const double below_after = radial_band_energy(out, 0.0f, lo);
     const double in_before = radial_band_energy(s.luma, f_low, f_high);
     const double in_after = radial_band_energy(out, f_low, f_high);
-    std::printf("GPU noise, band [%.3f, %.3f] cpp; below %.3f: %.4g -> %.4g (%.2f %%); in band "
-                "%.4g -> %.4g\n", f_low, f_high, lo, below_before, below_after,
-                100.0 * (below_after - below_before) / below_before, in_before, in_after);
+    std::printf(
+        "GPU noise, band [%.3f, %.3f] cpp; below %.3f: %.4g -> %.4g (%.2f %%); in band "
+        "%.4g -> %.4g\n",
+        f_low, f_high, lo, below_before, below_after,
+        100.0 * (below_after - below_before) / below_before, in_before, in_after);
     EXPECT_LT(std::fabs(below_after - below_before) / below_before, 0.05);
     EXPECT_GT(in_after, 2.0 * in_before);  // the noise really adds detail in the band
 }
@@ -167,8 +175,7 @@ TEST_F(GpuNoise, FovealHdrNonFiniteAndOffScreenGazeAreSafe) {
             run.set_display(d);
             auto pass = make_noise_pass();
             ASSERT_TRUE(run.init(*pass).ok());
-            run.set_inputs(colour, Image(n, n, 1, 0.5f), Image(n, n, 2, 0.0f),
-                           Image(n, n, 1, s_t));
+            run.set_inputs(colour, Image(n, n, 1, 0.5f), Image(n, n, 2, 0.0f), Image(n, n, 1, s_t));
             run.run(*pass, 1, false, g, g);
             const Image out = run.output();
             for (float v : out.data) ASSERT_TRUE(std::isfinite(v)) << "gaze " << g;

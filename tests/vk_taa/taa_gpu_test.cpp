@@ -42,7 +42,8 @@ Image to_working(const Image& rgb) {
 
 float max_abs_diff(const Image& a, const Image& b) {
     float m = 0;
-    for (std::size_t i = 0; i < a.data.size(); ++i) m = std::max(m, std::fabs(a.data[i] - b.data[i]));
+    for (std::size_t i = 0; i < a.data.size(); ++i)
+        m = std::max(m, std::fabs(a.data[i] - b.data[i]));
     return m;
 }
 
@@ -118,8 +119,10 @@ void compare_with_model(const Device& dev, bool half) {
             EXPECT_LT(diff, 1.0f / 255.0f) << "frame " << frame;
         }
     }
-    std::printf("GPU vs CPU model (%s storage) over 12 frames: max %.5f, mean %.6f (working "
-                "space)\n", half ? "half" : "float", worst, worst_mean);
+    std::printf(
+        "GPU vs CPU model (%s storage) over 12 frames: max %.5f, mean %.6f (working "
+        "space)\n",
+        half ? "half" : "float", worst, worst_mean);
 }
 
 TEST_F(GpuTaa, MatchesTheCpuModelWithFloatStorage) { compare_with_model(*device_, false); }
@@ -174,8 +177,10 @@ int gpu_saccade_frames(const Device& dev, bool saccade_term) {
 TEST_F(GpuTaa, SaccadeRecoveryWithinFourFramesAfterA20DegreeJump) {
     const int with = gpu_saccade_frames(*device_, true);
     const int without = gpu_saccade_frames(*device_, false);
-    std::printf("GPU saccade recovery (20 deg, 1/255): %d frames with the saccade term, %d "
-                "without\n", with, without);
+    std::printf(
+        "GPU saccade recovery (20 deg, 1/255): %d frames with the saccade term, %d "
+        "without\n",
+        with, without);
     EXPECT_LE(with, 4);
     EXPECT_GT(without, with);
 }

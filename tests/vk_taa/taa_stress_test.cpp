@@ -20,7 +20,8 @@ bool all_finite(const Image& img) {
 
 float max_abs_diff(const Image& a, const Image& b) {
     float m = 0;
-    for (std::size_t i = 0; i < a.data.size(); ++i) m = std::max(m, std::fabs(a.data[i] - b.data[i]));
+    for (std::size_t i = 0; i < a.data.size(); ++i)
+        m = std::max(m, std::fabs(a.data[i] - b.data[i]));
     return m;
 }
 
@@ -83,9 +84,7 @@ void run_stress(bool moving, bool half) {
             ++drift_checks;
         }
     }
-    if (moving) {
-        EXPECT_EQ(drift_checks, std::max(0, n - 300) / 4096);
-    }
+    if (moving) { EXPECT_EQ(drift_checks, std::max(0, n - 300) / 4096); }
     if (!moving && n > 200) {
         EXPECT_LT(max_abs_diff(taa_history_tonemapped(h), first_converged), 1.0f / 255.0f);
         EXPECT_LT(max_abs_diff(taa_history_tonemapped(h), tonemapped(frame)), 1.0f / 255.0f);

@@ -31,8 +31,8 @@ inline Image zone_plate(int n, float contrast = 0.4f) {
         for (int x = 0; x < n; ++x) {
             const float dx = float(x) - 0.5f * float(n);
             const float dy = float(y) - 0.5f * float(n);
-            img.at(x, y) = 0.5f + contrast *
-                std::cos(std::numbers::pi_v<float> * (dx * dx + dy * dy) / float(n));
+            img.at(x, y) = 0.5f + contrast * std::cos(std::numbers::pi_v<float> *
+                                                      (dx * dx + dy * dy) / float(n));
         }
     }
     return img;
@@ -55,7 +55,8 @@ inline Image pink_noise(int w, int h, float contrast = 0.12f, unsigned seed = 7)
         const float fx = f * std::cos(th), fy = f * std::sin(th);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
-                img.at(x, y) += amp * std::cos(2 * std::numbers::pi_v<float> * (fx * x + fy * y) + ph);
+                img.at(x, y) +=
+                    amp * std::cos(2 * std::numbers::pi_v<float> * (fx * x + fy * y) + ph);
     }
     for (float& v : img.data) v = std::clamp(v, 0.02f, 0.98f);
     return img;
@@ -67,7 +68,8 @@ inline Image gaussian_blur(const Image& src, float sigma) {
     const int r = int(std::ceil(3.5f * sigma));
     std::vector<float> k(std::size_t(2 * r + 1));
     float sum = 0;
-    for (int i = -r; i <= r; ++i) sum += k[std::size_t(i + r)] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
+    for (int i = -r; i <= r; ++i)
+        sum += k[std::size_t(i + r)] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
     for (float& v : k) v /= sum;
     Image tmp(src.width, src.height, src.channels), dst(src.width, src.height, src.channels);
     for (int y = 0; y < src.height; ++y)

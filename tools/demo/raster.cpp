@@ -7,7 +7,8 @@
 
 namespace fovea::demo {
 
-DepthImage::DepthImage(const vk::Device& device, VkExtent2D extent) : device_(device.device()) {
+DepthImage::DepthImage(const vk::Device& device, VkExtent2D extent) {
+    const VkDevice d = device.device();
     VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ici.imageType = VK_IMAGE_TYPE_2D;
     ici.format = kDepthFormat;
@@ -18,45 +19,24 @@ DepthImage::DepthImage(const vk::Device& device, VkExtent2D extent) : device_(de
     ici.tiling = VK_IMAGE_TILING_OPTIMAL;
     ici.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(device_, &ici, nullptr, &image_));
+    image_ = vk::create_handle<vk::UniqueImage>(d, vkCreateImage, ici);
     VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(device_, image_, &req);
+    vkGetImageMemoryRequirements(d, image_.get(), &req);
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
-    mai.memoryTypeIndex = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkAllocateMemory(device_, &mai, nullptr, &memory_));
-    VK_CHECK(vkBindImageMemory(device_, image_, memory_, 0));
+    mai.memoryTypeIndex =
+        device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    memory_ = vk::create_handle<vk::UniqueDeviceMemory>(d, vkAllocateMemory, mai);
+    VK_CHECK(vkBindImageMemory(d, image_.get(), memory_.get(), 0));
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vci.image = image_;
+    vci.image = image_.get();
     vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vci.format = kDepthFormat;
     vci.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
-    VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &view_));
+    view_ = vk::create_handle<vk::UniqueImageView>(d, vkCreateImageView, vci);
 }
 
-DepthImage& DepthImage::operator=(DepthImage&& o) noexcept {
-    if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        image_ = std::exchange(o.image_, VK_NULL_HANDLE);
-        memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
-        view_ = std::exchange(o.view_, VK_NULL_HANDLE);
-    }
-    return *this;
-}
-
-void DepthImage::reset() {
-    if (!device_) return;
-    if (view_) vkDestroyImageView(device_, view_, nullptr);
-    if (image_) vkDestroyImage(device_, image_, nullptr);
-    if (memory_) vkFreeMemory(device_, memory_, nullptr);
-    view_ = VK_NULL_HANDLE;
-    image_ = VK_NULL_HANDLE;
-    memory_ = VK_NULL_HANDLE;
-    device_ = VK_NULL_HANDLE;
-}
-
-GBufferRenderPass::GBufferRenderPass(const vk::Device& device) : device_(device.device()) {
+GBufferRenderPass::GBufferRenderPass(const vk::Device& device) {
     std::array<VkAttachmentDescription, vk::kGBufferImageCount + 1> att{};
     std::array<VkAttachmentReference, vk::kGBufferImageCount> color{};
     for (int i = 0; i < vk::kGBufferImageCount; ++i) {
@@ -112,18 +92,10 @@ GBufferRenderPass::GBufferRenderPass(const vk::Device& device) : device_(device.
     rpi.pSubpasses = &sub;
     rpi.dependencyCount = static_cast<uint32_t>(deps.size());
     rpi.pDependencies = deps.data();
-    VK_CHECK(vkCreateRenderPass(device_, &rpi, nullptr, &pass_));
+    pass_ = vk::create_handle<vk::UniqueRenderPass>(device.device(), vkCreateRenderPass, rpi);
 }
 
-GBufferRenderPass::~GBufferRenderPass() {
-    release_framebuffers();
-    vkDestroyRenderPass(device_, pass_, nullptr);
-}
-
-void GBufferRenderPass::release_framebuffers() {
-    for (VkFramebuffer fb : framebuffers_) vkDestroyFramebuffer(device_, fb, nullptr);
-    framebuffers_.clear();
-}
+void GBufferRenderPass::release_framebuffers() { framebuffers_.clear(); }
 
 void GBufferRenderPass::begin(VkCommandBuffer cmd, const vk::GBufferRefs& g, VkImageView depth) {
     std::array<VkImageView, vk::kGBufferImageCount + 1> views{};
@@ -131,79 +103,75 @@ void GBufferRenderPass::begin(VkCommandBuffer cmd, const vk::GBufferRefs& g, VkI
     views[vk::kGBufferImageCount] = depth;
     // A framebuffer per use: the module may recreate its images between frames (method switch).
     VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    fci.renderPass = pass_;
+    fci.renderPass = pass_.get();
     fci.attachmentCount = static_cast<uint32_t>(views.size());
     fci.pAttachments = views.data();
     fci.width = g.extent.width;
     fci.height = g.extent.height;
     fci.layers = 1;
-    VkFramebuffer fb = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFramebuffer(device_, &fci, nullptr, &fb));
-    framebuffers_.push_back(fb);
+    framebuffers_.push_back(
+        vk::create_handle<vk::UniqueFramebuffer>(pass_.parent(), vkCreateFramebuffer, fci));
+    const VkFramebuffer fb = framebuffers_.back().get();
     std::array<VkClearValue, vk::kGBufferImageCount + 1> clear{};
     clear[vk::kGBufferImageCount].depthStencil = {0.0f, 0};  // reverse-Z: far
     VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-    bi.renderPass = pass_;
+    bi.renderPass = pass_.get();
     bi.framebuffer = fb;
     bi.renderArea = {{0, 0}, g.extent};
     bi.clearValueCount = static_cast<uint32_t>(clear.size());
     bi.pClearValues = clear.data();
     vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-    const VkViewport vp{0.f, 0.f, static_cast<float>(g.extent.width),
-                        static_cast<float>(g.extent.height), 0.f, 1.f};
+    const VkViewport vp{
+        0.f, 0.f, static_cast<float>(g.extent.width), static_cast<float>(g.extent.height),
+        0.f, 1.f};
     vkCmdSetViewport(cmd, 0, 1, &vp);
     const VkRect2D scissor{{0, 0}, g.extent};
     vkCmdSetScissor(cmd, 0, 1, &scissor);
 }
 
-BufferSetLayout::BufferSetLayout(const vk::Device& device, VkBuffer buffer, VkDeviceSize range)
-    : device_(device.device()) {
-    constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+BufferSetLayout::BufferSetLayout(const vk::Device& device, VkBuffer buffer, VkDeviceSize range) {
+    const VkDevice d = device.device();
+    constexpr VkShaderStageFlags kStages =
+        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     constexpr VkDescriptorType kType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
     const VkDescriptorSetLayoutBinding b{0, kType, 1, kStages, nullptr};
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = 1;
     dl.pBindings = &b;
-    VK_CHECK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &set_layout_));
+    set_layout_ =
+        vk::create_handle<vk::UniqueDescriptorSetLayout>(d, vkCreateDescriptorSetLayout, dl);
+    const VkDescriptorSetLayout set_layout = set_layout_.get();
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
-    pl.pSetLayouts = &set_layout_;
-    VK_CHECK(vkCreatePipelineLayout(device_, &pl, nullptr, &layout_));
+    pl.pSetLayouts = &set_layout;
+    layout_ = vk::create_handle<vk::UniquePipelineLayout>(d, vkCreatePipelineLayout, pl);
     const VkDescriptorPoolSize size{kType, 1};
     VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpi.maxSets = 1;
     dpi.poolSizeCount = 1;
     dpi.pPoolSizes = &size;
-    VK_CHECK(vkCreateDescriptorPool(device_, &dpi, nullptr, &pool_));
+    pool_ = vk::create_handle<vk::UniqueDescriptorPool>(d, vkCreateDescriptorPool, dpi);
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = pool_;
+    ai.descriptorPool = pool_.get();
     ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &set_layout_;
-    VK_CHECK(vkAllocateDescriptorSets(device_, &ai, &set_));
+    ai.pSetLayouts = &set_layout;
+    VK_CHECK(vkAllocateDescriptorSets(d, &ai, &set_));
     const VkDescriptorBufferInfo info{buffer, 0, range};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = set_;
     w.descriptorCount = 1;
     w.descriptorType = kType;
     w.pBufferInfo = &info;
-    vkUpdateDescriptorSets(device_, 1, &w, 0, nullptr);
-}
-
-BufferSetLayout::~BufferSetLayout() {
-    vkDestroyDescriptorPool(device_, pool_, nullptr);
-    vkDestroyPipelineLayout(device_, layout_, nullptr);
-    vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+    vkUpdateDescriptorSets(d, 1, &w, 0, nullptr);
 }
 
 namespace {
 
-VkShaderModule make_module(VkDevice device, std::span<const uint32_t> spirv) {
+vk::UniqueShaderModule make_module(VkDevice device, std::span<const uint32_t> spirv) {
     VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     smi.codeSize = spirv.size() * sizeof(uint32_t);
     smi.pCode = spirv.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(device, &smi, nullptr, &module));
-    return module;
+    return vk::create_handle<vk::UniqueShaderModule>(device, vkCreateShaderModule, smi);
 }
 
 }  // namespace
@@ -211,31 +179,26 @@ VkShaderModule make_module(VkDevice device, std::span<const uint32_t> spirv) {
 GraphicsPipeline::GraphicsPipeline(const vk::Device& device, VkPipelineLayout layout,
                                    VkRenderPass pass, uint32_t color_attachments,
                                    std::span<const uint32_t> vert, std::span<const uint32_t> frag,
-                                   RasterState state, std::span<const uint32_t> vert_spec)
-    : device_(device.device()) {
+                                   RasterState state, std::span<const uint32_t> vert_spec) {
+    const VkDevice d = device.device();
     std::vector<VkSpecializationMapEntry> entries;
     for (uint32_t i = 0; i < vert_spec.size(); ++i) entries.push_back({i, i * 4u, 4});
     const VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(),
                                     vert_spec.size() * 4, vert_spec.data()};
-    const VkShaderModule vm = make_module(device_, vert);
-    VkShaderModule fm = VK_NULL_HANDLE;
-    try {
-        fm = make_module(device_, frag);
-    } catch (...) {
-        vkDestroyShaderModule(device_, vm, nullptr);
-        throw;
-    }
+    const vk::UniqueShaderModule vm = make_module(d, vert);
+    const vk::UniqueShaderModule fm = make_module(d, frag);
     std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
     stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vm;
+    stages[0].module = vm.get();
     stages[0].pName = "main";
     stages[0].pSpecializationInfo = entries.empty() ? nullptr : &spec;
     stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fm;
+    stages[1].module = fm.get();
     stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineVertexInputStateCreateInfo vin{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo ia{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
@@ -248,7 +211,8 @@ GraphicsPipeline::GraphicsPipeline(const vk::Device& device, VkPipelineLayout la
     rs.cullMode = state.cull;
     rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     rs.lineWidth = 1.f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    VkPipelineMultisampleStateCreateInfo ms{
+        VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo ds{
         VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
@@ -259,7 +223,8 @@ GraphicsPipeline::GraphicsPipeline(const vk::Device& device, VkPipelineLayout la
     for (auto& b : blend)
         b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                            VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo cb{
+        VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     cb.attachmentCount = color_attachments;
     cb.pAttachments = blend.data();
     const std::array<VkDynamicState, 2> dyn{VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
@@ -279,27 +244,7 @@ GraphicsPipeline::GraphicsPipeline(const vk::Device& device, VkPipelineLayout la
     gpi.pDynamicState = &dy;
     gpi.layout = layout;
     gpi.renderPass = pass;
-    const VkResult r =
-        vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &gpi, nullptr, &pipeline_);
-    vkDestroyShaderModule(device_, vm, nullptr);
-    vkDestroyShaderModule(device_, fm, nullptr);
-    VK_CHECK(r);
-}
-
-GraphicsPipeline& GraphicsPipeline::operator=(GraphicsPipeline&& o) noexcept {
-    if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
-    }
-    return *this;
-}
-
-void GraphicsPipeline::reset() {
-    if (!device_) return;
-    if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
-    pipeline_ = VK_NULL_HANDLE;
-    device_ = VK_NULL_HANDLE;
+    pipeline_ = vk::create_pipeline(d, vkCreateGraphicsPipelines, gpi);
 }
 
 }  // namespace fovea::demo

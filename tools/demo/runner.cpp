@@ -27,8 +27,8 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
     }
     if (o.scene != SceneKind::kDemo) {
         std::array<float, 64> host{};
-        host[0] = 40.f;   // zone plate k
-        host[1] = 60.f;   // grating cycles per plane unit
+        host[0] = 40.f;  // zone plate k
+        host[1] = 60.f;  // grating cycles per plane unit
         host[2] = 2.f * target_camera(o.display).tan_x / o.display.width_px;
         f.set_host_params(host);
     }
@@ -39,12 +39,10 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
         if (m != "full") names.push_back(m);
     std::vector<MethodResult> results(names.size());
     std::vector<std::vector<double>> gpu_ms(names.size()), gbuffer_ms(names.size());
-    std::vector<int> compared(names.size(), 0);
+    std::vector<ErrorPool> errors(names.size());
     for (size_t k = 0; k < names.size(); ++k) {
         results[k].name = names[k];
         if (auto r = f.set_method(names[k]); !r) results[k].error = r.error().message;
-        results[k].error_figures.psnr_bands_db.fill(0.0);
-        results[k].error_figures.ssim_bands.fill(0.0);
     }
     if (!results[0].error.empty()) return make_error(results[0].error);
     const uint32_t w = cfg.extent.width, h = cfg.extent.height;
@@ -65,7 +63,8 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
     for (int i = -1; i < o.frames; ++i) {  // frame -1 warms every method up, not measured
         const double t = std::max(i, 0) * o.frame_dt_s;
         const bool target = o.scene != SceneKind::kDemo;
-        const Camera cam = target ? target_camera(o.display) : camera_at(t, o.display, o.eye_offset_m);
+        const Camera cam =
+            target ? target_camera(o.display) : camera_at(t, o.display, o.eye_offset_m);
         const Camera prev = target ? cam : camera_at(t - 1.0 / 60.0, o.display, o.eye_offset_m);
         vk::FrameInputs in;
         in.gaze = gaze(t);
@@ -74,6 +73,7 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
         in.time_s = t;
         in.camera_cut = i <= 0;
         Rgb8 reference;
+        BandLabels labels;
         vk::ResolvedGaze resolved;
         std::string line;
         for (size_t k = 0; k < names.size(); ++k) {
@@ -95,30 +95,30 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
             r.skipped_tiles += static_cast<double>(st.skipped_tiles) / o.frames;
             r.reused_tiles += static_cast<double>(st.reused_tiles) / o.frames;
             const Rgb8 img = tonemap(device.read_image(f.output()), w, h);
-            if (k == 0) reference = img;
-            const ErrorFigures e = compare(img, reference, o.display, st.gaze,
-                                           o.acuity.foveal_radius_deg);
-            ErrorFigures& acc = r.error_figures;
-            acc.psnr_fovea_db += e.psnr_fovea_db;
-            for (int b = 0; b < vk::kBandCount; ++b) {
-                acc.psnr_bands_db[b] += e.psnr_bands_db[b];
-                acc.ssim_bands[b] += e.ssim_bands[b];
+            if (k == 0) {
+                reference = img;
+                labels = band_labels(w, h, o.display, st.gaze, o.acuity.foveal_radius_deg);
             }
-            ++compared[k];
+            errors[k].add(img, reference, labels);
             if (o.on_frame) o.on_frame(k, i, f, img);
             if (!o.png_dir.empty()) {
-                const std::string base = o.png_dir + "/" + o.png_prefix + "_" +
-                                          std::to_string(i) + "_" + names[k];
+                const std::string base =
+                    o.png_dir + "/" + o.png_prefix + "_" + std::to_string(i) + "_" + names[k];
                 write_png(base + ".png", img);
-                if (k > 0) write_png(base + "_rate.png", rate_map(device.read_image(f.rate()), w, h));
-                else write_png(o.png_dir + "/" + o.png_prefix + "_" + std::to_string(i) +
-                                   "_reference.png", img);
+                if (k > 0)
+                    write_png(base + "_rate.png", rate_map(device.read_image(f.rate()), w, h));
+                else
+                    write_png(
+                        o.png_dir + "/" + o.png_prefix + "_" + std::to_string(i) + "_reference.png",
+                        img);
             }
             char buf[224];
-            std::snprintf(buf, sizeof(buf), " %s %.0f ms (G-buffer %.0f, method %.0f) %.1f%% fovea "
-                          "%.1f dB skipped %u reused %u |", names[k].c_str(), ms,
-                          gbuffer_ms[k].back(), st.method_gpu_ms, 100.0 * st.shaded_fraction,
-                          e.psnr_fovea_db, st.skipped_tiles, st.reused_tiles);
+            std::snprintf(buf, sizeof(buf),
+                          " %s %.0f ms (G-buffer %.0f, method %.0f) %.1f%% fovea "
+                          "%.1f dB so far, skipped %u reused %u |",
+                          names[k].c_str(), ms, gbuffer_ms[k].back(), st.method_gpu_ms,
+                          100.0 * st.shaded_fraction, errors[k].figures().psnr_fovea_db,
+                          st.skipped_tiles, st.reused_tiles);
             line += buf;
         }
         if (o.progress && i >= 0) {
@@ -131,16 +131,11 @@ Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions
     }
     for (size_t k = 0; k < names.size(); ++k) {
         MethodResult& r = results[k];
-        if (!r.error.empty() || compared[k] == 0) continue;
+        if (!r.error.empty() || r.ms.empty()) continue;
         r.ms_median = median(r.ms);
         r.method_gpu_ms = median(gpu_ms[k]);
         r.gbuffer_gpu_ms = median(gbuffer_ms[k]);
-        ErrorFigures& acc = r.error_figures;
-        acc.psnr_fovea_db /= compared[k];
-        for (int b = 0; b < vk::kBandCount; ++b) {
-            acc.psnr_bands_db[b] /= compared[k];
-            acc.ssim_bands[b] /= compared[k];
-        }
+        r.error_figures = errors[k].figures();
     }
     return results;
 }

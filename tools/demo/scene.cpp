@@ -108,19 +108,17 @@ SceneRenderer::SceneRenderer(const vk::Device& device)
     const uint32_t terrain_spec[] = {kTerrainCells, spacing_bits};
     terrain_ = pipeline("demo_terrain.vert", "demo_terrain.frag", {}, terrain_spec);
     // Back faces of the proxy boxes: their footprint is the box's even with the camera inside.
-    objects_ = pipeline("demo_object.vert", "demo_object.frag", {VK_CULL_MODE_FRONT_BIT, true, true});
+    objects_ =
+        pipeline("demo_object.vert", "demo_object.frag", {VK_CULL_MODE_FRONT_BIT, true, true});
     sky_ = pipeline("demo_fullscreen.vert", "demo_sky.frag", {VK_CULL_MODE_NONE, true, false});
-    target_ = pipeline("demo_fullscreen.vert", "demo_target.frag", {VK_CULL_MODE_NONE, false, false});
+    target_ =
+        pipeline("demo_fullscreen.vert", "demo_target.frag", {VK_CULL_MODE_NONE, false, false});
     if (device.properties().limits.timestampComputeAndGraphics) {
         VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
         qi.queryCount = 2 * kSlots;
-        VK_CHECK(vkCreateQueryPool(device.device(), &qi, nullptr, &queries_));
+        queries_ = vk::create_handle<vk::UniqueQueryPool>(device.device(), vkCreateQueryPool, qi);
     }
-}
-
-SceneRenderer::~SceneRenderer() {
-    if (queries_) vkDestroyQueryPool(device_->device(), queries_, nullptr);
 }
 
 void SceneRenderer::begin_frame() {
@@ -132,7 +130,7 @@ double SceneRenderer::gpu_ms() const {
     const uint32_t views = std::min(slot_, kSlots);
     if (!queries_ || views == 0) return 0.0;
     std::vector<uint64_t> ts(2 * views);
-    if (vkGetQueryPoolResults(device_->device(), queries_, 0, 2 * views,
+    if (vkGetQueryPoolResults(device_->device(), queries_.get(), 0, 2 * views,
                               ts.size() * sizeof(uint64_t), ts.data(), sizeof(uint64_t),
                               VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
         return 0.0;
@@ -163,11 +161,13 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
     std::memcpy(static_cast<char*>(views_.data()) + offset, &v, sizeof(v));
     auto depth = depth_.find({g.extent.width, g.extent.height});
     if (depth == depth_.end())
-        depth = depth_.emplace(std::pair{g.extent.width, g.extent.height},
-                               DepthImage(*device_, g.extent)).first;
+        depth =
+            depth_
+                .emplace(std::pair{g.extent.width, g.extent.height}, DepthImage(*device_, g.extent))
+                .first;
     if (queries_) {
-        if (slot == 0) vkCmdResetQueryPool(cmd, queries_, 0, 2 * kSlots);
-        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * slot);
+        if (slot == 0) vkCmdResetQueryPool(cmd, queries_.get(), 0, 2 * kSlots);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_.get(), 2 * slot);
     }
     pass_.begin(cmd, g, depth->second.view());
     const VkDescriptorSet set = layout_.set();
@@ -188,7 +188,8 @@ void SceneRenderer::record(VkCommandBuffer cmd, const vk::GBufferRefs& g, SceneK
     }
     pass_.end(cmd);
     if (queries_)
-        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * slot + 1);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(),
+                            2 * slot + 1);
 }
 
 }  // namespace fovea::demo

@@ -42,8 +42,8 @@ struct CalibrateOptions {
 };
 
 json request(const json& req, int timeout_ms = 5000) {
-    auto reply = daemon::control_request(daemon::control_socket_path(global_options().instance), req,
-                                         timeout_ms);
+    auto reply = daemon::control_request(daemon::control_socket_path(global_options().instance),
+                                         req, timeout_ms);
     if (!reply) throw std::runtime_error(reply.error().message);
     if (!reply->value("ok", false))
         throw std::runtime_error(req["cmd"].get<std::string>() + ": " +
@@ -54,9 +54,9 @@ json request(const json& req, int timeout_ms = 5000) {
 
 // 9: a 3x3 grid over 10..90 % of the display; 13 adds the four points between its rows.
 std::vector<std::pair<double, double>> calibration_targets(int n) {
-    std::vector<std::pair<double, double>> t = {{0.5, 0.5}, {0.1, 0.1}, {0.5, 0.1}, {0.9, 0.1},
-                                                {0.9, 0.5}, {0.9, 0.9}, {0.5, 0.9}, {0.1, 0.9},
-                                                {0.1, 0.5}};
+    std::vector<std::pair<double, double>> t = {{0.5, 0.5}, {0.1, 0.1}, {0.5, 0.1},
+                                                {0.9, 0.1}, {0.9, 0.5}, {0.9, 0.9},
+                                                {0.5, 0.9}, {0.1, 0.9}, {0.1, 0.5}};
     if (n == 13) {
         for (auto p : {std::pair{0.3, 0.3}, {0.7, 0.3}, {0.7, 0.7}, {0.3, 0.7}}) t.push_back(p);
     }
@@ -90,7 +90,8 @@ constexpr double kOutlierDeg = 5.0;
 
 json validate(int device, double settle_ms, double collect_ms) {
     auto ring = open_ring(global_options().instance, 2000);
-    std::map<std::string, std::vector<std::vector<std::pair<double, double>>>> per_eye;  // per target
+    std::map<std::string, std::vector<std::vector<std::pair<double, double>>>>
+        per_eye;  // per target
     std::map<std::string, double> offset_sum, offset_n;
     std::map<std::string, uint64_t> excluded;
     uint64_t calibrated = 0, records = 0;
@@ -130,7 +131,8 @@ json validate(int device, double settle_ms, double collect_ms) {
         for (auto& [name, v] : here) per_eye[name].push_back(std::move(v));
     }
     request({{"cmd", "calibrate.target"}, {"hide", true}});
-    json out = {{"targets", kValidationTargets.size()}, {"records", records},
+    json out = {{"targets", kValidationTargets.size()},
+                {"records", records},
                 {"calibrated_records", calibrated}};
     for (const char* name : {"left", "right"}) {
         if (!offset_n[name]) {
@@ -175,7 +177,8 @@ void print_table(const json& result) {
     std::printf("calibration for '%s' on device %d: %d targets, stored %s\n",
                 result["user"].get<std::string>().c_str(), result["device"].get<int>(),
                 result["after"]["targets"].get<int>(),
-                result["stored"].is_string() ? result["stored"].get<std::string>().c_str() : "(not stored)");
+                result["stored"].is_string() ? result["stored"].get<std::string>().c_str()
+                                             : "(not stored)");
     std::printf("%-26s %-5s %9s %9s %9s %8s\n", "", "eye", "accuracy", "prec RMS", "prec SD",
                 "samples");
     auto row = [](const char* what, const char* eye, const json& q) {
@@ -187,14 +190,16 @@ void print_table(const json& result) {
     for (const char* eye : {"left", "right"}) {
         row("before (raw)", eye, result["before"][eye]);
         row("after (fit)", eye, result["after"][eye]);
-        if (result.contains("validation")) row("validation (published)", eye, result["validation"][eye]);
+        if (result.contains("validation"))
+            row("validation (published)", eye, result["validation"][eye]);
     }
     if (result.contains("validation")) {
         const json& v = result["validation"];
-        std::printf("validation: %d fresh targets, %llu of %llu published records flagged calibrated\n",
-                    v["targets"].get<int>(),
-                    static_cast<unsigned long long>(v["calibrated_records"].get<uint64_t>()),
-                    static_cast<unsigned long long>(v["records"].get<uint64_t>()));
+        std::printf(
+            "validation: %d fresh targets, %llu of %llu published records flagged calibrated\n",
+            v["targets"].get<int>(),
+            static_cast<unsigned long long>(v["calibrated_records"].get<uint64_t>()),
+            static_cast<unsigned long long>(v["records"].get<uint64_t>()));
     }
 }
 
@@ -202,8 +207,8 @@ void run_calibrate(const CalibrateOptions& o) {
     const std::string user = !o.user.empty()                               ? o.user
                              : std::getenv("USER") && *std::getenv("USER") ? std::getenv("USER")
                                                                            : "default";
-    const json started =
-        request({{"cmd", "calibrate.start"}, {"user", user}, {"eyes", o.eyes}, {"device", o.device}});
+    const json started = request(
+        {{"cmd", "calibrate.start"}, {"user", user}, {"eyes", o.eyes}, {"device", o.device}});
     const double settle_ms = started["settle_ms"].get<double>();
     const double collect_ms = started["collect_ms"].get<double>();
     try {
@@ -212,10 +217,12 @@ void run_calibrate(const CalibrateOptions& o) {
             const auto [x, y] = targets[i];
             const json p = request({{"cmd", "calibrate.point"}, {"x", x}, {"y", y}});
             if (i == 0 && p.value("devices_following", 0) == 0 && !o.json_out)
-                std::fprintf(stderr, "fovea calibrate: no device moves its gaze to the targets by "
-                                     "itself; the user must look at each target as it is shown\n");
+                std::fprintf(stderr,
+                             "fovea calibrate: no device moves its gaze to the targets by "
+                             "itself; the user must look at each target as it is shown\n");
             if (!o.json_out)
-                std::fprintf(stderr, "target %zu/%zu at (%.2f, %.2f)\n", i + 1, targets.size(), x, y);
+                std::fprintf(stderr, "target %zu/%zu at (%.2f, %.2f)\n", i + 1, targets.size(), x,
+                             y);
             wait_for_point(i);
         }
     } catch (...) {
@@ -225,7 +232,8 @@ void run_calibrate(const CalibrateOptions& o) {
     }
     json result = request({{"cmd", "calibrate.finish"}});
     if (o.validate) {
-        if (!o.json_out) std::fprintf(stderr, "validating on %zu fresh targets\n", kValidationTargets.size());
+        if (!o.json_out)
+            std::fprintf(stderr, "validating on %zu fresh targets\n", kValidationTargets.size());
         result["validation"] = validate(o.device, settle_ms, collect_ms);
     }
     if (o.json_out) {
@@ -240,7 +248,8 @@ void setup_calibrate(CLI::App& app) {
     app.add_option("--user", o.user, "Whose calibration this is (default: $USER)");
     app.add_option("--points", o.points, "Calibration targets: 9 or 13")
         ->check(CLI::IsMember({9, 13}));
-    app.add_option("--device", o.device, "Device index to calibrate")->check(CLI::NonNegativeNumber);
+    app.add_option("--device", o.device, "Device index to calibrate")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--eyes", o.eyes, "both, left or right")
         ->check(CLI::IsMember({"both", "left", "right"}));
     app.add_flag("--json", o.json_out, "Print one JSON object: before, after, validation");

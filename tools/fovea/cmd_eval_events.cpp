@@ -1,14 +1,24 @@
-// `fovea eval-events DIR [--mode online|offline] [--json]`: per-sample Cohen's kappa of the
-// gaze pipeline's events against hand-labelled recordings (Andersson et al. 2017 scoring).
+// `fovea eval-events DIR [--mode online|offline] [--json] [--cv dataset]`: agreement of the gaze
+// chain's events with hand-labelled recordings, every dataset found under DIR (one dataset's
+// folder or ../shared/data) scored on its own: Cohen's kappa per sample and event (Andersson et
+// al. 2017), sample F1 and event F1 (IoU >= 0.5; Hooge et al. 2018, Startsev et al. 2019), per
+// stimulus type and coder, next to the coders' agreement with each other. `--cv dataset` refits
+// the detector's fitted constants without each dataset and scores it with them (held out) beside
+// the shipped constants (in sample).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 
 #include "command.hpp"
-#include "fovea/gaze/labelled.hpp"
+#include "fovea/eval/cv.hpp"
+#include "fovea/eval/dataset.hpp"
+#include "fovea/eval/detect.hpp"
+#include "fovea/eval/scoring.hpp"
 
 namespace fovea::cli {
 namespace {
@@ -16,48 +26,81 @@ namespace {
 struct Options {
     std::string dir;
     std::string mode = "offline";
+    std::string cv;
+    std::string against;
     bool json = false;
     bool per_file = false;
     std::string dump_dir;
     double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
+    int threads = 0;
 };
 
 struct Published {
-    double humans[3];
     double best[3];
     const char* best_name;
-    double target[3];
 };
 
-// ../shared/data/README.md (Andersson et al. 2017) and the targets of issue 3.
-const std::map<std::string, Published>& published() {
+// lund2013: the best algorithm per event in Andersson et al. (2017), ../shared/data/README.md.
+const std::map<std::string, Published>& lund_published() {
     static const std::map<std::string, Published> p = {
-        {"fixation", {{.84, .65, .65}, {.67, .03, .14}, "I-VT/BIT", {.75, .55, .55}}},
-        {"saccade", {{.91, .81, .87}, {.81, .75, .81}, "LNS", {.85, .78, .84}}},
-        {"pso", {{.76, .62, .65}, {.64, .59, .63}, "LNS", {.65, .60, .63}}},
-        {"pursuit", {{.34, .70, .66}, {NAN, NAN, NAN}, "-", {NAN, NAN, NAN}}},
-        {"blink", {{.92, .77, .81}, {NAN, NAN, NAN}, "-", {NAN, NAN, NAN}}},
+        {"fixation", {{.67, .03, .14}, "I-VT/BIT"}},
+        {"saccade", {{.81, .75, .81}, "LNS"}},
+        {"pso", {{.64, .59, .63}, "LNS"}},
     };
     return p;
 }
 
-int stimulus_index(const std::string& s) {
-    return s == "img" ? 0 : s == "dots" ? 1 : s == "video" ? 2 : -1;
+double published_best(const std::string& dataset, const std::string& stimulus,
+                      const std::string& event) {
+    if (dataset != "lund2013") return NAN;
+    const int si = stimulus == "img" ? 0 : stimulus == "dots" ? 1 : stimulus == "video" ? 2 : -1;
+    const auto it = lund_published().find(event);
+    return si < 0 || it == lund_published().end() ? NAN : it->second.best[si];
 }
 
 nlohmann::json number(double v) {
     return std::isfinite(v) ? nlohmann::json(std::round(v * 1e4) / 1e4) : nlohmann::json(nullptr);
 }
 
+using Metric = double (eval::Cell::*)() const;
+nlohmann::json table(const eval::ScoreTable& t, Metric m, const char* stacked_name) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [stimulus, events] : t)
+        for (const auto& [event, coders] : events)
+            for (const auto& [coder, cell] : coders)
+                j[stimulus][event][coder == eval::kAllCoders ? stacked_name : coder] =
+                    number((cell.*m)());
+    return j;
+}
+
+nlohmann::json scores_json(const eval::DatasetScore& s) {
+    return {{"kappa", table(s.cells, &eval::Cell::kappa, eval::kAllCoders)},
+            {"f1_sample", table(s.cells, &eval::Cell::f1_sample, eval::kAllCoders)},
+            {"f1_event", table(s.cells, &eval::Cell::f1_event, eval::kAllCoders)}};
+}
+
+nlohmann::json coders_json(const eval::CoderTable& t) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [stimulus, events] : t) {
+        for (const auto& [event, a] : events) {
+            j[stimulus][event] = {
+                {"kappa", number(a.kappa.mean)},       {"kappa_min", number(a.kappa.min)},
+                {"kappa_max", number(a.kappa.max)},    {"f1_sample", number(a.f1_sample.mean)},
+                {"f1_event", number(a.f1_event.mean)}, {"pairs", a.kappa.pairs}};
+        }
+    }
+    return j;
+}
+
 // One CSV per recording (index, detected event, each coder's label; event codes as in the
-// data README) for looking at where the detector and the coders disagree.
-bool dump_detections(const gaze::LabelledSet& set,
-                     const std::vector<std::vector<gaze::Event>>& detections,
+// data README) for looking at where the detector and the coders disagree. x/y are pixels of
+// the recording's display (degree sources: a 4096-px plane spanning +-60 deg).
+bool dump_detections(const eval::Dataset& d, const std::vector<std::vector<gaze::Event>>& det,
                      const std::string& dir) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    for (size_t r = 0; r < set.recordings.size(); ++r) {
-        const auto& rec = set.recordings[r];
+    for (size_t r = 0; r < d.recordings.size(); ++r) {
+        const auto& rec = d.recordings[r];
         const std::string path = dir + "/" + rec.stimulus + "__" + rec.name + ".csv";
         std::FILE* f = std::fopen(path.c_str(), "w");
         if (!f) {
@@ -65,13 +108,16 @@ bool dump_detections(const gaze::LabelledSet& set,
             return false;
         }
         std::fprintf(f, "i,t_s,x_px,y_px,det");
-        for (const auto& [coder, file] : rec.coders) std::fprintf(f, ",%s", coder.c_str());
+        for (const auto& [coder, labels] : rec.coders) std::fprintf(f, ",%s", coder.c_str());
         std::fprintf(f, "\n");
-        for (size_t i = 0; i < rec.length; ++i) {
-            std::fprintf(f, "%zu,%.6f,%.2f,%.2f,%d", i, rec.data->t_s[i], rec.data->x_px[i],
-                         rec.data->y_px[i], static_cast<int>(detections[r][i]));
-            for (const auto& [coder, file] : rec.coders) {
-                std::fprintf(f, ",%d", static_cast<int>(file->labels[i]));
+        for (size_t i = 0; i < rec.samples.size() && i < det[r].size(); ++i) {
+            const auto& s = rec.samples[i];
+            std::fprintf(f, "%zu,%.6f,%.2f,%.2f,%d", i, eval::seconds(rec, i),
+                         s.left.valid ? s.left.x * rec.display.width_px : 0.0,
+                         s.left.valid ? s.left.y * rec.display.height_px : 0.0,
+                         static_cast<int>(det[r][i]));
+            for (const auto& [coder, labels] : rec.coders) {
+                std::fprintf(f, ",%d", static_cast<int>(labels[i]));
             }
             std::fprintf(f, "\n");
         }
@@ -80,23 +126,20 @@ bool dump_detections(const gaze::LabelledSet& set,
     return true;
 }
 
-// Kappa against both coders stacked, per recording: which files drive a stimulus' score.
-void print_per_file(const gaze::LabelledSet& set,
-                    const std::vector<std::vector<gaze::Event>>& detections) {
-    std::printf("%-6s %-28s", "stim", "recording");
-    for (gaze::Event e : gaze::kScoredEvents) std::printf(" %8s", gaze::event_name(e));
+// Kappa against all coders stacked, per recording: which files drive a stimulus' score.
+void print_per_file(const eval::Dataset& d, const std::vector<std::vector<gaze::Event>>& det) {
+    std::printf("%-10s %-6s %-28s", "dataset", "stim", "recording");
+    for (gaze::Event e : d.scheme) std::printf(" %8s", eval::event_name(e));
     std::printf("\n");
-    for (size_t r = 0; r < set.recordings.size(); ++r) {
-        const auto& rec = set.recordings[r];
-        std::printf("%-6s %-28s", rec.stimulus.c_str(), rec.name.c_str());
-        for (gaze::Event e : gaze::kScoredEvents) {
-            gaze::Agreement a;
-            for (const auto& [coder, file] : rec.coders) {
-                for (size_t i = 0; i < rec.length; ++i) {
-                    a.add(detections[r][i] == e, file->labels[i] == e);
-                }
-            }
-            const double k = a.kappa();
+    for (size_t r = 0; r < d.recordings.size(); ++r) {
+        eval::Dataset one = d;
+        one.recordings = {d.recordings[r]};
+        const eval::DatasetScore s = eval::score(one, {det[r]});
+        const auto& rec = d.recordings[r];
+        std::printf("%-10s %-6s %-28s", d.name.c_str(), rec.stimulus.c_str(), rec.name.c_str());
+        for (gaze::Event e : d.scheme) {
+            const double k =
+                s.cells.at(rec.stimulus).at(eval::event_name(e)).at(eval::kAllCoders).kappa();
             if (std::isfinite(k)) {
                 std::printf(" %8.3f", k);
             } else {
@@ -105,6 +148,91 @@ void print_per_file(const gaze::LabelledSet& set,
         }
         std::printf("\n");
     }
+}
+
+const char* cell(double v) {
+    static char buf[16][16];
+    static int slot = 0;
+    char* b = buf[slot++ % 16];
+    if (std::isfinite(v)) {
+        std::snprintf(b, 16, "%6.3f", v);
+    } else {
+        std::snprintf(b, 16, "%6s", "-");
+    }
+    return b;
+}
+
+// The table: one row per dataset x stimulus x event x coder (and all coders stacked).
+void print_table(const eval::Dataset& d, const eval::DatasetScore& in,
+                 const eval::DatasetScore* held_out) {
+    const eval::CoderTable humans = eval::coder_agreement(d);
+    std::printf("\n%s: %zu recordings, %zu samples%s\n", d.name.c_str(), d.recordings.size(),
+                in.samples, d.human ? "" : " (labels from a peer algorithm: scored, never fitted)");
+    int sw = 6, cw = 8;  // column widths: stimulus, coder
+    for (const auto& [stimulus, events] : in.cells) {
+        sw = std::max(sw, static_cast<int>(stimulus.size()));
+        for (const auto& [event, coders] : events)
+            for (const auto& [coder, c] : coders) cw = std::max(cw, static_cast<int>(coder.size()));
+    }
+    std::printf("%-*s %-9s %-*s %6s %6s %6s", sw, "stim", "event", cw, "coder", "kappa", "F1smp",
+                "F1evt");
+    if (held_out) std::printf(" | %6s %6s %6s", "kappa", "F1smp", "F1evt");
+    std::printf(" | %6s %6s %s\n", d.human ? "humans" : "peers", "best",
+                held_out ? "(left: in sample, right: held out)"
+                         : "(humans/peers: mean coder-vs-coder kappa)");
+    for (const auto& [stimulus, events] : in.cells) {
+        for (const auto& [event, coders] : events) {
+            double human = NAN;
+            if (auto s = humans.find(stimulus); s != humans.end())
+                if (auto e = s->second.find(event); e != s->second.end())
+                    human = e->second.kappa.mean;
+            for (const auto& [coder, c] : coders) {
+                std::printf("%-*s %-9s %-*s %s %s %s", sw, stimulus.c_str(), event.c_str(), cw,
+                            coder.c_str(), cell(c.kappa()), cell(c.f1_sample()),
+                            cell(c.f1_event()));
+                if (held_out) {
+                    const eval::Cell& h = held_out->cells.at(stimulus).at(event).at(coder);
+                    std::printf(" | %s %s %s", cell(h.kappa()), cell(h.f1_sample()),
+                                cell(h.f1_event()));
+                }
+                const bool all = coder == eval::kAllCoders;
+                std::printf(" | %s %s\n", cell(all ? human : NAN),
+                            cell(all ? published_best(d.name, stimulus, event) : NAN));
+            }
+        }
+    }
+    for (const auto& n : d.notes) std::fprintf(stderr, "note: %s: %s\n", d.name.c_str(), n.c_str());
+}
+
+// `--against eyelink FILE.asc|DIR`: the detector against EyeLink's own online parser on the
+// same samples, one table row group per ASC file (stimulus column = source/file).
+Result<eval::Dataset> peer_dataset(const std::string& path) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        for (const auto& e : std::filesystem::recursive_directory_iterator(path, ec))
+            if (e.is_regular_file(ec) && e.path().extension() == ".asc")
+                files.push_back(e.path().string());
+        std::sort(files.begin(), files.end());
+    } else {
+        files.push_back(path);
+    }
+    eval::Dataset d;
+    d.name = "eyelink";
+    d.path = path;
+    d.human = false;
+    d.scheme = {gaze::Event::kFixation, gaze::Event::kSaccade, gaze::Event::kBlink};
+    for (const auto& f : files) {
+        auto r = eval::load_asc(f, &d.notes);
+        if (!r) {
+            d.notes.push_back(r.error().message + " (skipped)");
+            continue;
+        }
+        r->stimulus = r->stimulus + "/" + r->name;
+        d.recordings.push_back(std::move(*r));
+    }
+    if (d.recordings.empty()) return make_error(path + ": no EyeLink ASC file with parser events");
+    return d;
 }
 
 int run(const Options& o) {
@@ -118,69 +246,129 @@ int run(const Options& o) {
                      o.mode.c_str());
         return 2;
     }
-    auto set = gaze::load_labelled_dir(o.dir);
-    if (!set) {
-        std::fprintf(stderr, "eval-events: %s\n", set.error().message.c_str());
-        return 1;
+    if (!o.cv.empty() && o.cv != "dataset") {
+        std::fprintf(stderr,
+                     "eval-events: --cv takes 'dataset' (leave one dataset out), not '%s'\n",
+                     o.cv.c_str());
+        return 2;
     }
     if (!(o.lookahead_ms > 0) || o.lookahead_ms > 10000) {
         std::fprintf(stderr, "eval-events: --lookahead-ms must be in (0, 10000]\n");
         return 2;
     }
+    if (!o.against.empty() && o.against != "eyelink") {
+        std::fprintf(stderr,
+                     "eval-events: --against takes 'eyelink' (its online parser), not '%s'\n",
+                     o.against.c_str());
+        return 2;
+    }
+    if (!o.against.empty() && !o.cv.empty()) {
+        std::fprintf(stderr, "eval-events: --against and --cv do not combine\n");
+        return 2;
+    }
+    Result<eval::DatasetSet> set = eval::DatasetSet{};
+    if (!o.against.empty()) {
+        auto peer = peer_dataset(o.dir);
+        if (!peer) {
+            std::fprintf(stderr, "eval-events: %s\n", peer.error().message.c_str());
+            return 1;
+        }
+        set->datasets.push_back(std::move(*peer));
+    } else {
+        set = eval::load_datasets(o.dir);
+    }
+    if (!set) {
+        std::fprintf(stderr, "eval-events: %s\n", set.error().message.c_str());
+        return 1;
+    }
+    for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
     gaze::DetectorParams params;
     params.lookahead_s = o.lookahead_ms * 1e-3;
-    std::vector<std::vector<gaze::Event>> detections;
-    for (const auto& rec : set->recordings) {
-        detections.push_back(gaze::run_pipeline(*rec.data, mode, params));
+    const int threads = o.threads > 0
+                            ? o.threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const eval::DetectFn detect = [mode](const eval::Recording& r, const gaze::DetectorParams& p) {
+        return eval::detect(r, mode, p);
+    };
+
+    std::vector<eval::DatasetScore> in_sample(set->datasets.size());
+    std::vector<const eval::FoldResult*> folds(set->datasets.size(), nullptr);
+    eval::CvResult cv;
+    if (!o.cv.empty()) {
+        cv = eval::run_cv(set->datasets, params, detect, threads);
+        for (size_t d = 0; d < set->datasets.size(); ++d) {
+            folds[d] = &cv.folds[d];
+            in_sample[d] = cv.folds[d].in_sample;
+        }
     }
-    const gaze::EvalResult result = gaze::score(*set, detections);
-    if (!o.dump_dir.empty() && !dump_detections(*set, detections, o.dump_dir)) return 1;
-    if (o.per_file) print_per_file(*set, detections);
+    const bool several = set->datasets.size() > 1;
+    for (size_t d = 0; d < set->datasets.size(); ++d) {
+        const eval::Dataset& ds = set->datasets[d];
+        if (!o.cv.empty() && o.dump_dir.empty() && !o.per_file) continue;
+        const auto det = eval::detect_all(ds, params, detect, threads);
+        if (o.cv.empty()) in_sample[d] = eval::score(ds, det);
+        if (!o.dump_dir.empty() &&
+            !dump_detections(ds, det, several ? o.dump_dir + "/" + ds.name : o.dump_dir)) {
+            return 1;
+        }
+        if (o.per_file) print_per_file(ds, det);
+    }
+
     if (o.json) {
         nlohmann::json j;
-        j["kappa"] = nlohmann::json::object();
-        for (const auto& [stimulus, events] : result.kappa) {
-            for (const auto& [event, coders] : events) {
-                for (const auto& [coder, k] : coders)
-                    j["kappa"][stimulus][event][coder] = number(k);
+        // Today's keys: the first dataset's kappa (lund2013 when present), coders stacked as
+        // "both".
+        size_t primary = 0;
+        for (size_t d = 0; d < set->datasets.size(); ++d)
+            if (set->datasets[d].name == "lund2013") primary = d;
+        j["kappa"] = table(in_sample[primary].cells, &eval::Cell::kappa, "both");
+        j["samples"] = in_sample[primary].samples;
+        j["mode"] = o.mode;
+        for (size_t d = 0; d < set->datasets.size(); ++d) {
+            const eval::Dataset& ds = set->datasets[d];
+            nlohmann::json& dj = j["datasets"][ds.name];
+            dj = scores_json(in_sample[d]);
+            dj["samples"] = in_sample[d].samples;
+            dj["recordings"] = ds.recordings.size();
+            dj["human_labels"] = ds.human;
+            dj["coder_agreement"] = coders_json(eval::coder_agreement(ds));
+            if (folds[d]) {
+                dj["held_out"] = scores_json(folds[d]->held_out);
+                for (size_t t = 0; t < cv.tunables.size(); ++t)
+                    dj["held_out"]["fitted"][cv.tunables[t].name] = folds[d]->fitted[t];
+                dj["objective"] = number(folds[d]->in_sample_objective);
+                dj["held_out"]["objective"] = number(folds[d]->held_out_objective);
             }
         }
-        j["samples"] = result.samples;
+        if (!o.cv.empty()) {
+            for (size_t t = 0; t < cv.tunables.size(); ++t) {
+                j["cv"]["shipped"][cv.tunables[t].name] = cv.shipped[t];
+                j["cv"]["fit_all"][cv.tunables[t].name] = cv.fit_all[t];
+                j["cv"]["grid"][cv.tunables[t].name] = cv.tunables[t].grid;
+            }
+            j["cv"]["candidates"] = cv.candidates;
+        }
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
     std::printf(
-        "eval-events: %zu recordings, %zu samples scored, mode %s%s\n", set->recordings.size(),
-        result.samples, o.mode.c_str(),
+        "eval-events: %zu datasets under %s, mode %s%s\n", set->datasets.size(), o.dir.c_str(),
+        o.mode.c_str(),
         o.mode == "online"
             ? (", look-ahead " + std::to_string(static_cast<int>(o.lookahead_ms)) + " ms").c_str()
             : "");
-    std::printf("%-6s %-9s %7s %7s %7s | %7s %7s %-9s %7s\n", "stim", "event", "MN", "RA", "both",
-                "humans", "best", "(algo)", "target");
-    auto cell = [](double v) {
-        static char buf[8][16];
-        static int slot = 0;
-        char* b = buf[slot++ % 8];
-        if (std::isfinite(v)) {
-            std::snprintf(b, 16, "%7.3f", v);
-        } else {
-            std::snprintf(b, 16, "%7s", "-");
-        }
-        return b;
-    };
-    for (const auto& [stimulus, events] : result.kappa) {
-        const int si = stimulus_index(stimulus);
-        for (const auto& [event, coders] : events) {
-            auto get = [&](const char* c) {
-                auto it = coders.find(c);
-                return it == coders.end() ? NAN : it->second;
-            };
-            const auto& p = published().at(event);
-            std::printf("%-6s %-9s %s %s %s | %s %s %-9s %s\n", stimulus.c_str(), event.c_str(),
-                        cell(get("MN")), cell(get("RA")), cell(get("both")),
-                        cell(si >= 0 ? p.humans[si] : NAN), cell(si >= 0 ? p.best[si] : NAN),
-                        p.best_name, cell(si >= 0 ? p.target[si] : NAN));
+    for (size_t d = 0; d < set->datasets.size(); ++d) {
+        print_table(set->datasets[d], in_sample[d], folds[d] ? &folds[d]->held_out : nullptr);
+    }
+    if (!o.cv.empty()) {
+        std::printf("\nleave-one-dataset-out over %zu candidates; fitted constants:\n",
+                    cv.candidates);
+        for (size_t t = 0; t < cv.tunables.size(); ++t) {
+            std::printf("  %-22s shipped %g, fit on all %g;", cv.tunables[t].name.c_str(),
+                        cv.shipped[t], cv.fit_all[t]);
+            for (const auto& f : cv.folds)
+                std::printf(" w/o %s %g", f.dataset.c_str(), f.fitted[t]);
+            std::printf("\n");
         }
     }
     return 0;
@@ -188,15 +376,24 @@ int run(const Options& o) {
 
 void setup(CLI::App& app) {
     auto o = std::make_shared<Options>();
-    app.add_option("dir", o->dir, "Directory of labelled CSV files (lund2013 format)")->required();
+    app.add_option("dir", o->dir,
+                   "A labelled dataset's folder, or a folder holding several (../shared/data)")
+        ->required();
     app.add_option("--mode", o->mode, "Detector mode: offline (whole recording) or online");
+    app.add_option("--cv", o->cv,
+                   "'dataset': refit the fitted constants leaving each dataset out and score it "
+                   "held out");
+    app.add_option("--against", o->against,
+                   "'eyelink': score against EyeLink's online parser events in DIR (an ASC file or "
+                   "a folder of them) instead of people's labels");
     app.add_flag("--json", o->json, "Print one JSON object");
-    app.add_flag("--per-file", o->per_file, "Also print kappa (both coders) per recording");
+    app.add_flag("--per-file", o->per_file, "Also print kappa (all coders) per recording");
     app.add_option("--dump", o->dump_dir,
                    "Write one CSV per recording (detected event and coder labels) to this "
                    "directory");
     app.add_option("--lookahead-ms", o->lookahead_ms,
                    "Online mode: look-ahead bound in ms (the daemon's setting)");
+    app.add_option("--threads", o->threads, "Worker threads (default: one per core)");
     app.callback([o] {
         const int rc = run(*o);
         if (rc != 0) throw CLI::RuntimeError(rc);

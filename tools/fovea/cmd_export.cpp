@@ -18,9 +18,11 @@ void setup_export(CLI::App& app) {
         auto f = record::xdf::read_file(file);
         if (!f) throw std::runtime_error(f.error().message);
         if (f->truncated) {
-            std::fprintf(stderr, "fovea export: %s ends in an incomplete chunk (%s); exporting the "
-                         "%llu readable bytes (run `fovea repair` to close it)\n", file.c_str(),
-                         f->truncation_reason.c_str(), static_cast<unsigned long long>(f->valid_bytes));
+            std::fprintf(stderr,
+                         "fovea export: %s ends in an incomplete chunk (%s); exporting the "
+                         "%llu readable bytes (run `fovea repair` to close it)\n",
+                         file.c_str(), f->truncation_reason.c_str(),
+                         static_cast<unsigned long long>(f->valid_bytes));
         }
         auto out = record::export_csv(*f, dir);
         if (!out) throw std::runtime_error(out.error().message);

@@ -25,7 +25,10 @@
 #pragma GCC diagnostic pop
 
 #include "command.hpp"
-#include "fovea/gaze/labelled.hpp"
+#include "fovea/eval/dataset.hpp"
+#include "fovea/eval/detect.hpp"
+#include "fovea/eval/scoring.hpp"
+#include "fovea/gaze/pipeline.hpp"
 #include "sim/sim_tracker.hpp"
 
 namespace fovea::cli {
@@ -143,7 +146,7 @@ void plot(const std::vector<Row>& rows, const std::string& path) {
 }
 
 int run(const Options& o) {
-    auto set = gaze::load_labelled_dir(o.dir);
+    auto set = eval::load_lund2013(o.dir);
     if (!set) {
         std::fprintf(stderr, "gaze-sweep: %s\n", set.error().message.c_str());
         return 1;
@@ -181,18 +184,18 @@ int run(const Options& o) {
         size_t n = 0;
         const auto t0 = Clock::now();
         for (const auto& r : set->recordings) {
-            det.push_back(gaze::run_pipeline(*r.data, gaze::DetectorMode::kOnline, dp));
+            det.push_back(eval::detect(r, gaze::DetectorMode::kOnline, dp));
             n += det.back().size();
         }
         const double ns = std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / n;
-        const auto res = gaze::score(*set, det);
+        const auto res = eval::score(*set, det);
         double sum = 0;
         int m = 0;
-        for (const auto& [stim, ev] : res.kappa) {
+        for (const auto& [stim, ev] : res.cells) {
             for (const char* e : {"fixation", "saccade", "pso"}) {
                 auto it = ev.find(e);
-                if (it != ev.end() && std::isfinite(it->second.at("both"))) {
-                    sum += it->second.at("both");
+                if (it != ev.end() && std::isfinite(it->second.at(eval::kAllCoders).kappa())) {
+                    sum += it->second.at(eval::kAllCoders).kappa();
                     ++m;
                 }
             }

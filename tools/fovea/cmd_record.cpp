@@ -1,20 +1,20 @@
 // fovea record --out FILE.csv --duration S: everything the ring publishes, as CSV.
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
-#include <chrono>
-#include <filesystem>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "control.hpp"
-#include "paths.hpp"
 #include "gaze_format.hpp"
+#include "paths.hpp"
 #include "ring_session.hpp"
 
 namespace fovea::cli {
@@ -26,7 +26,8 @@ struct RecordOptions {
 };
 
 bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 void record_csv(const RecordOptions& o) {
@@ -47,7 +48,8 @@ void record_csv(const RecordOptions& o) {
         for (const auto& r : batch.records) write_csv_row(f, r);
         rows += batch.records.size();
     }
-    if (std::fclose(f) != 0) throw std::runtime_error("writing " + o.out + ": " + std::strerror(errno));
+    if (std::fclose(f) != 0)
+        throw std::runtime_error("writing " + o.out + ": " + std::strerror(errno));
     std::fprintf(stderr, "fovea record: %llu samples to %s (%llu overrun)\n",
                  static_cast<unsigned long long>(rows), o.out.c_str(),
                  static_cast<unsigned long long>(dropped));
@@ -62,7 +64,8 @@ void record_xdf(const RecordOptions& o) {
     auto call = [&](const nlohmann::json& req) {
         auto r = daemon::control_request(sock, req, 10000);
         if (!r) throw std::runtime_error(r.error().message);
-        if (!r->value("ok", false)) throw std::runtime_error(r->value("error", std::string("failed")));
+        if (!r->value("ok", false))
+            throw std::runtime_error(r->value("error", std::string("failed")));
         return *r;
     };
     call({{"cmd", "record.start"}, {"path", path}});
@@ -76,12 +79,14 @@ void record_xdf(const RecordOptions& o) {
 
 void setup_record(CLI::App& app) {
     static RecordOptions o;
-    app.add_option("--out,-o", o.out, "Output file (.csv, or .xdf recorded by the daemon)")->required();
+    app.add_option("--out,-o", o.out, "Output file (.csv, or .xdf recorded by the daemon)")
+        ->required();
     app.add_option("--duration", o.duration_s, "Seconds to record")->check(CLI::PositiveNumber);
     app.callback([] {
         if (ends_with(o.out, ".xdf")) return record_xdf(o);
         if (!ends_with(o.out, ".csv"))
-            throw std::runtime_error("unsupported output format for " + o.out + " (use .csv or .xdf)");
+            throw std::runtime_error("unsupported output format for " + o.out +
+                                     " (use .csv or .xdf)");
         record_csv(o);
     });
 }

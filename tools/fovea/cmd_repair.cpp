@@ -20,10 +20,11 @@ void setup_repair(CLI::App& app) {
                         static_cast<unsigned long long>(r->samples_kept));
             return;
         }
-        std::printf("%s: kept %llu samples, dropped %llu bytes of an incomplete last chunk, "
-                    "added %d stream footer(s)\n", file.c_str(),
-                    static_cast<unsigned long long>(r->samples_kept),
-                    static_cast<unsigned long long>(r->bytes_dropped), r->footers_added);
+        std::printf(
+            "%s: kept %llu samples, dropped %llu bytes of an incomplete last chunk, "
+            "added %d stream footer(s)\n",
+            file.c_str(), static_cast<unsigned long long>(r->samples_kept),
+            static_cast<unsigned long long>(r->bytes_dropped), r->footers_added);
     });
 }
 

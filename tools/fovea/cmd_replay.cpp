@@ -26,10 +26,12 @@ void setup_replay(CLI::App& app) {
         std::printf("replayed %zu raw samples -> %llu processed (recording has %llu)\n",
                     rec->raw.size(), static_cast<unsigned long long>(res.replayed),
                     static_cast<unsigned long long>(res.recorded));
-        std::printf("events: fixation %llu, saccade %llu, pso %llu, pursuit %llu, blink %llu, "
-                    "unknown %llu\n", (unsigned long long)events[1], (unsigned long long)events[2],
-                    (unsigned long long)events[3], (unsigned long long)events[4],
-                    (unsigned long long)events[5], (unsigned long long)events[0]);
+        std::printf(
+            "events: fixation %llu, saccade %llu, pso %llu, pursuit %llu, blink %llu, "
+            "unknown %llu\n",
+            (unsigned long long)events[1], (unsigned long long)events[2],
+            (unsigned long long)events[3], (unsigned long long)events[4],
+            (unsigned long long)events[5], (unsigned long long)events[0]);
         std::printf("compared %llu samples: %llu differ (%llu in their event)\n",
                     static_cast<unsigned long long>(res.compared),
                     static_cast<unsigned long long>(res.mismatches),
@@ -56,14 +58,16 @@ void setup_replay(CLI::App& app) {
         }
         if (res.mismatches) {
             std::fprintf(stderr, "fovea replay: first difference at sample %lld (%s)\n",
-                         static_cast<long long>(res.first_mismatch), res.first_mismatch_field.c_str());
+                         static_cast<long long>(res.first_mismatch),
+                         res.first_mismatch_field.c_str());
             throw CLI::RuntimeError(3);
         }
         std::printf("identical to the live run\n");
     });
 }
 
-const Command kReplay{"replay", "Re-run a recording through the gaze chain and compare", &setup_replay};
+const Command kReplay{"replay", "Re-run a recording through the gaze chain and compare",
+                      &setup_replay};
 
 }  // namespace
 }  // namespace fovea::cli

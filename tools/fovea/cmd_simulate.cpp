@@ -1,8 +1,9 @@
-// `fovea simulate serial|gazepoint`: a simulated tracker behind a real kernel object, for
+// `fovea simulate serial|gazepoint|pupil|osc`: a simulated tracker behind a real kernel object, for
 // driving fovead (and its tests) without hardware.
 //   serial:    opens a pty, prints the path to connect to, streams protocol frames
 //              (drivers/serial/PROTOCOL.md) with optional garbage, drops, stalls and reopens.
 //   gazepoint: serves the Open Gaze API on 127.0.0.1 and prints host:port.
+//   pupil, osc: simulate_pupil.cpp, simulate_osc.cpp.
 #include <poll.h>
 #include <signal.h>
 
@@ -23,6 +24,8 @@
 #include "gazepoint/server_sim.hpp"
 #include "serial/device_sim.hpp"
 #include "sim/sim_tracker.hpp"
+#include "simulate_osc.hpp"
+#include "simulate_pupil.hpp"
 
 namespace fovea::cli {
 namespace {
@@ -43,7 +46,8 @@ struct SimOptions {
 };
 
 void add_sim_options(CLI::App& app, SimOptions& o) {
-    app.add_option("--rate", o.rate_hz, "Sampling rate, Hz (60..2000)")->check(CLI::Range(60.0, 2000.0));
+    app.add_option("--rate", o.rate_hz, "Sampling rate, Hz (60..2000)")
+        ->check(CLI::Range(60.0, 2000.0));
     app.add_option("--seed", o.seed, "Simulated tracker seed");
     app.add_flag("--monocular", o.monocular, "Only the left eye");
     app.add_option("--counter-bits", o.counter_bits, "Device counter width (16, 32, 64)")
@@ -119,7 +123,8 @@ void run_serial(const SerialOptions& o) {
 
     while (!g_stop) {
         auto now = Clock::now();
-        if (o.sim.duration_s > 0 && now - started >= std::chrono::duration<double>(o.sim.duration_s))
+        if (o.sim.duration_s > 0 &&
+            now - started >= std::chrono::duration<double>(o.sim.duration_s))
             break;
         if (o.reopen_every_s > 0 && now >= next_reopen) {
             // Unplug: the port disappears for a while, then a new one comes up.
@@ -134,7 +139,9 @@ void run_serial(const SerialOptions& o) {
             t0 = now;  // the tracker's own clock keeps running; only the schedule restarts
             n = 0;
         }
-        while (t0 + std::chrono::duration_cast<Clock::duration>(period() * static_cast<double>(n)) <= now) {
+        while (t0 +
+                   std::chrono::duration_cast<Clock::duration>(period() * static_cast<double>(n)) <=
+               now) {
             dev.next_sample(pending);
             ++n;
         }
@@ -168,20 +175,21 @@ void run_serial(const SerialOptions& o) {
         }
         const auto next_due =
             t0 + std::chrono::duration_cast<Clock::duration>(period() * static_cast<double>(n));
-        const auto wait_ms = std::chrono::duration_cast<std::chrono::milliseconds>(next_due - Clock::now());
-        pollfd pfd{pty->master_fd(), static_cast<short>(POLLIN | (pending.empty() ? 0 : POLLOUT)), 0};
+        const auto wait_ms =
+            std::chrono::duration_cast<std::chrono::milliseconds>(next_due - Clock::now());
+        pollfd pfd{pty->master_fd(), static_cast<short>(POLLIN | (pending.empty() ? 0 : POLLOUT)),
+                   0};
         ::poll(&pfd, 1, static_cast<int>(std::clamp<int64_t>(wait_ms.count(), 0, 50)));
     }
     const auto& s = dev.stats();
-    std::fprintf(stderr,
-                 "fovea simulate serial: sent %llu frames (%llu hello), dropped %llu, corrupted %llu, "
-                 "garbage bursts %llu, stalls %llu, reopens %llu, overflow bytes %llu\n",
-                 static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.hellos),
-                 static_cast<unsigned long long>(s.dropped),
-                 static_cast<unsigned long long>(s.corrupted),
-                 static_cast<unsigned long long>(s.garbage_bursts),
-                 static_cast<unsigned long long>(stalls), static_cast<unsigned long long>(reopens),
-                 static_cast<unsigned long long>(overflow_bytes));
+    std::fprintf(
+        stderr,
+        "fovea simulate serial: sent %llu frames (%llu hello), dropped %llu, corrupted %llu, "
+        "garbage bursts %llu, stalls %llu, reopens %llu, overflow bytes %llu\n",
+        static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.hellos),
+        static_cast<unsigned long long>(s.dropped), static_cast<unsigned long long>(s.corrupted),
+        static_cast<unsigned long long>(s.garbage_bursts), static_cast<unsigned long long>(stalls),
+        static_cast<unsigned long long>(reopens), static_cast<unsigned long long>(overflow_bytes));
 }
 
 struct GazepointOptions {
@@ -224,20 +232,24 @@ void run_gazepoint(const GazepointOptions& o) {
     }
     io.run();
     const auto s = server.stats();
-    std::fprintf(stderr, "fovea simulate gazepoint: %llu clients, %llu records sent, %llu dropped, "
-                 "%llu garbage bursts\n",
-                 static_cast<unsigned long long>(s.clients), static_cast<unsigned long long>(s.records),
-                 static_cast<unsigned long long>(s.dropped), static_cast<unsigned long long>(s.garbage));
+    std::fprintf(
+        stderr,
+        "fovea simulate gazepoint: %llu clients, %llu records sent, %llu dropped, "
+        "%llu garbage bursts\n",
+        static_cast<unsigned long long>(s.clients), static_cast<unsigned long long>(s.records),
+        static_cast<unsigned long long>(s.dropped), static_cast<unsigned long long>(s.garbage));
 }
 
 void setup_simulate(CLI::App& app) {
     app.require_subcommand(1);
     static SerialOptions serial;
-    CLI::App* s = app.add_subcommand("serial", "Simulated serial tracker on a pty (prints its path)");
+    CLI::App* s =
+        app.add_subcommand("serial", "Simulated serial tracker on a pty (prints its path)");
     add_sim_options(*s, serial.sim);
     s->add_option("--garbage", serial.garbage, "Chance per frame of random bytes before it")
         ->check(CLI::Range(0.0, 1.0));
-    s->add_option("--drop", serial.drop, "Chance per frame of not sending it")->check(CLI::Range(0.0, 1.0));
+    s->add_option("--drop", serial.drop, "Chance per frame of not sending it")
+        ->check(CLI::Range(0.0, 1.0));
     s->add_option("--corrupt", serial.corrupt, "Chance per frame of a flipped byte")
         ->check(CLI::Range(0.0, 1.0));
     s->add_option("--stall-ms", serial.stall_ms, "Stop mid-frame for N ms every --stall-every s")
@@ -254,7 +266,8 @@ void setup_simulate(CLI::App& app) {
     s->callback([] { run_serial(serial); });
 
     static GazepointOptions gp;
-    CLI::App* g = app.add_subcommand("gazepoint", "Open Gaze API server on 127.0.0.1 (prints host:port)");
+    CLI::App* g =
+        app.add_subcommand("gazepoint", "Open Gaze API server on 127.0.0.1 (prints host:port)");
     add_sim_options(*g, gp.sim);
     g->add_option("--port", gp.port, "TCP port (0: any free port)")->check(CLI::Range(0, 65535));
     g->add_option("--drop", gp.drop, "Chance per record of skipping it (CNT still advances)")
@@ -263,9 +276,13 @@ void setup_simulate(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     g->add_option("--tick-frequency", gp.tick_hz, "TIME_TICK_FREQUENCY, Hz");
     g->callback([] { run_gazepoint(gp); });
+
+    add_simulate_pupil(app);
+    add_simulate_osc(app);
 }
 
-const Command kSimulate{"simulate", "Run a simulated tracker behind a pty or a TCP port", &setup_simulate};
+const Command kSimulate{"simulate", "Run a simulated tracker behind a pty or a TCP port",
+                        &setup_simulate};
 
 }  // namespace
 }  // namespace fovea::cli

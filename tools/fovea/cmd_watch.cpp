@@ -22,9 +22,16 @@ void run_watch(const WatchOptions& o) {
     if (!o.zmq.empty()) return run_watch_zmq(o);
     auto client = open_ring(global_options().instance, static_cast<int>(o.wait_s * 1000));
     uint64_t cursor = client->head();
+    uint64_t generation = client->info().generation;
     uint64_t shown = 0, seen = 0, dropped = 0;
     while (o.count == 0 || shown < o.count) {
         if (!client->wait(cursor, static_cast<int32_t>(o.wait_s * 1000))) {
+            // A restarted fovead: wait() re-attached and moved the cursor to the new ring's head.
+            if (const uint64_t g = client->info().generation; g != generation) {
+                generation = g;
+                std::fprintf(stderr, "fovea watch: fovead restarted; following its new ring\n");
+                continue;
+            }
             if (client->head() <= cursor)
                 throw std::runtime_error("no gaze for " + std::to_string(o.wait_s) +
                                          " s: is the tracker delivering?");
@@ -40,8 +47,9 @@ void run_watch(const WatchOptions& o) {
         }
         std::fflush(stdout);
     }
-    if (dropped) std::fprintf(stderr, "fovea watch: %llu samples overrun (reader too slow)\n",
-                              static_cast<unsigned long long>(dropped));
+    if (dropped)
+        std::fprintf(stderr, "fovea watch: %llu samples overrun (reader too slow)\n",
+                     static_cast<unsigned long long>(dropped));
 }
 
 // Pupil-style messages from another machine; each line is the topic and the ring-style line.
@@ -52,8 +60,9 @@ void run_watch_zmq(const WatchOptions& o) {
     while (o.count == 0 || shown < o.count) {
         auto g = (*sub)->receive(static_cast<int>(o.wait_s * 1000));
         if (!g) throw std::runtime_error(g.error().message);
-        if (!*g) throw std::runtime_error("no gaze from " + o.zmq + " for " +
-                                          std::to_string(o.wait_s) + " s");
+        if (!*g)
+            throw std::runtime_error("no gaze from " + o.zmq + " for " + std::to_string(o.wait_s) +
+                                     " s");
         if (seen++ % o.every) continue;
         const std::string line = watch_line((*g)->record, monotonic_ns());
         std::printf("%-12s %s\n", (*g)->topic.c_str(), line.c_str());

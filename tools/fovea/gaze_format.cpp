@@ -37,8 +37,8 @@ void write_csv_header(std::FILE* f, const std::string& comment) {
 
 namespace {
 void eye_cols(std::FILE* f, const fovea_eye& e) {
-    std::fprintf(f, "%.6f,%.6f,%.4f,%.4f,%.3f,%u,", e.norm_x, e.norm_y, e.deg_x, e.deg_y, e.pupil_mm,
-                 e.valid & FOVEA_VALID);
+    std::fprintf(f, "%.6f,%.6f,%.4f,%.4f,%.3f,%u,", e.norm_x, e.norm_y, e.deg_x, e.deg_y,
+                 e.pupil_mm, e.valid & FOVEA_VALID);
 }
 }  // namespace
 
@@ -62,7 +62,8 @@ std::string watch_line(const fovea_gaze_record& r, int64_t now_ns) {
     char buf[256];
     const auto& c = r.combined;
     std::snprintf(buf, sizeof buf,
-                  "#%-8" PRIu64 " t=%.6f s  gaze=(%.4f, %.4f) (%+7.2f°, %+7.2f°)  L%c R%c  "
+                  "#%-8" PRIu64
+                  " t=%.6f s  gaze=(%.4f, %.4f) (%+7.2f°, %+7.2f°)  L%c R%c  "
                   "pupil=%.2f mm  %-8s  age=%.0f µs (capture→publish %.0f µs)",
                   r.index, static_cast<double>(r.t_capture_ns) / 1e9, c.norm_x, c.norm_y, c.deg_x,
                   c.deg_y, r.left.valid ? '+' : '-', r.right.valid ? '+' : '-', c.pupil_mm,

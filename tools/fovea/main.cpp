@@ -30,14 +30,13 @@ int main(int argc, char** argv) {
     app.add_option("--instance", global_options().instance,
                    "Daemon instance (ring and control socket names)");
     auto& commands = command_registry();
-    std::sort(commands.begin(), commands.end(),
-              [](const CommandEntry& a, const CommandEntry& b) { return std::string_view(a.name) < b.name; });
+    std::sort(commands.begin(), commands.end(), [](const CommandEntry& a, const CommandEntry& b) {
+        return std::string_view(a.name) < b.name;
+    });
     for (const auto& c : commands) c.setup(*app.add_subcommand(c.name, c.description));
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    } catch (const std::exception& e) {
+    } catch (const CLI::ParseError& e) { return app.exit(e); } catch (const std::exception& e) {
         std::fprintf(stderr, "fovea: %s\n", e.what());
         return 1;
     }

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -142,10 +143,13 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
     q.fitted = true;
     q.samples_used = static_cast<int>(kept.size());
     q.samples_rejected = static_cast<int>(idx.size() - kept.size());
-    measure(side, kept, [&](const EyeSample& e, double& x, double& y) {
-        x = eval(fit.cx, fit.norm, e.x, e.y);
-        y = eval(fit.cy, fit.norm, e.x, e.y);
-    }, q);
+    measure(
+        side, kept,
+        [&](const EyeSample& e, double& x, double& y) {
+            x = eval(fit.cx, fit.norm, e.x, e.y);
+            y = eval(fit.cy, fit.norm, e.x, e.y);
+        },
+        q);
     return fit;
 }
 
@@ -198,14 +202,18 @@ CalibrationQuality Calibration::evaluate_unmapped() const {
         EyeQuality& e = side == EyeSide::kLeft ? q.left : q.right;
         std::vector<size_t> idx;
         for (size_t i = 0; i < points_.size(); ++i) {
-            if (usable(side == EyeSide::kLeft ? points_[i].left : points_[i].right)) idx.push_back(i);
+            if (usable(side == EyeSide::kLeft ? points_[i].left : points_[i].right))
+                idx.push_back(i);
         }
         if (idx.empty()) continue;
         e.samples_used = static_cast<int>(idx.size());
-        measure(side, idx, [](const EyeSample& raw, double& x, double& y) {
-            x = raw.x;
-            y = raw.y;
-        }, e);
+        measure(
+            side, idx,
+            [](const EyeSample& raw, double& x, double& y) {
+                x = raw.x;
+                y = raw.y;
+            },
+            e);
     }
     return q;
 }
@@ -269,10 +277,24 @@ Result<Calibration> Calibration::from_json(const std::string& text, const Displa
     Calibration c(d);
     try {
         const auto j = nlohmann::json::parse(text);
-        if (j.value("version", 0) != 1 || j.value("model", "") != "poly2_cross") {
+        // A count must be an integer in range: get<int>() of 1e300 would be undefined.
+        auto count = [&j](const char* key, int64_t fallback) -> std::optional<int64_t> {
+            const auto it = j.find(key);
+            if (it == j.end()) return fallback;
+            if (!it->is_number_integer() || it->get<int64_t>() < 0 ||
+                it->get<int64_t>() > 1'000'000)
+                return std::nullopt;
+            return it->get<int64_t>();
+        };
+        if (count("version", 0) != 1 || j.value("model", "") != "poly2_cross") {
             return make_error("calibration: unsupported version or model");
         }
-        auto eye = [](const nlohmann::json& e, EyeFit& f, EyeQuality& q) {
+        // Quality figures are NaN when unknown, which to_json() writes as null.
+        auto figure = [](const nlohmann::json& e, const char* key) {
+            const auto it = e.find(key);
+            return it != e.end() && it->is_number() ? it->get<double>() : kNaN;
+        };
+        auto eye = [&figure](const nlohmann::json& e, EyeFit& f, EyeQuality& q) {
             f.ok = e.value("fitted", false);
             if (!f.ok) return true;
             f.cx = e.at("cx").get<Coefficients>();
@@ -289,16 +311,18 @@ Result<Calibration> Calibration::from_json(const std::string& text, const Displa
                 }
             }
             q.fitted = true;
-            q.accuracy_deg = e.value("accuracy_deg", kNaN);
-            q.precision_rms_deg = e.value("precision_rms_deg", kNaN);
-            q.precision_sd_deg = e.value("precision_sd_deg", kNaN);
+            q.accuracy_deg = figure(e, "accuracy_deg");
+            q.precision_rms_deg = figure(e, "precision_rms_deg");
+            q.precision_sd_deg = figure(e, "precision_sd_deg");
             return true;
         };
         if (!eye(j.at("left"), c.left_, c.quality_.left) ||
             !eye(j.at("right"), c.right_, c.quality_.right)) {
             return make_error("calibration: non-finite coefficient");
         }
-        c.quality_.targets = j.value("targets", 0);
+        const auto targets = count("targets", 0);
+        if (!targets) return make_error("calibration: \"targets\" must be a count");
+        c.quality_.targets = static_cast<int>(*targets);
     } catch (const std::exception& e) {
         return make_error(std::string("calibration: bad JSON: ") + e.what());
     }

@@ -23,6 +23,10 @@ void ClockSync::restart(double dev_s) {
 }
 
 ClockMapping ClockSync::update(uint64_t device_ticks, int64_t receive_ns) {
+    if (clock_.host_synced) {
+        (void)receive_ns;
+        return {static_cast<int64_t>(device_ticks), clock_.sync_uncertainty_us, true};
+    }
     device_ticks &= mask_;
     if (!have_raw_) {
         have_raw_ = true;

@@ -38,13 +38,13 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
         noise_weight_ = std::max(0.0, p_.noise_prior_samples);
     }
     peak_ = p_.initial_peak_dps;
-    onset_ = std::max(p_.min_onset_dps, stat_mean_ + p_.onset_sd * std::sqrt(stat_var_));
+    onset_ = std::max(p_.min_onset_dps(), stat_mean_ + p_.onset_sd * std::sqrt(stat_var_));
 }
 
 void EventDetector::set_thresholds(const VelocityThresholds& t) {
     if (std::isfinite(t.noise_deg) && t.noise_deg > 0) noise_ = t.noise_deg;
     peak_ = std::max(p_.min_peak_dps, t.peak_dps);
-    onset_ = std::max(p_.min_onset_dps, std::min(t.onset_dps, peak_));
+    onset_ = std::max(p_.min_onset_dps(), std::min(t.onset_dps, peak_));
 }
 
 void EventDetector::push(const DetectorInput& in) {
@@ -141,21 +141,11 @@ bool EventDetector::pop(DetectorOutput& out) {
     out.saccade_id = -1;
     switch (e.label) {
         case Label::kInter:
-        case Label::kFixation:
-            out.event = Event::kFixation;
-            break;
-        case Label::kPursuit:
-            out.event = Event::kPursuit;
-            break;
-        case Label::kSaccade:
-            out.event = Event::kSaccade;
-            break;
-        case Label::kPso:
-            out.event = Event::kPso;
-            break;
-        case Label::kBlink:
-            out.event = Event::kBlink;
-            break;
+        case Label::kFixation: out.event = Event::kFixation; break;
+        case Label::kPursuit: out.event = Event::kPursuit; break;
+        case Label::kSaccade: out.event = Event::kSaccade; break;
+        case Label::kPso: out.event = Event::kPso; break;
+        case Label::kBlink: out.event = Event::kBlink; break;
         default:  // kUndefined (tracking lost on and off) and the rest: no event
             out.event = Event::kUnknown;
             break;
@@ -218,9 +208,9 @@ void EventDetector::compute_velocity(int64_t c) {
     }
     auto get = [this](int64_t i) -> const Entry& { return at(i); };
     const auto wide = window_slope(get, lo, hi, e.t);
-    const auto sharp = kf_ == k_ ? wide
-                                 : window_slope(get, std::max(base_, c - kf_),
-                                                std::min(n_ - 1, c + kf_), e.t);
+    const auto sharp =
+        kf_ == k_ ? wide
+                  : window_slope(get, std::max(base_, c - kf_), std::min(n_ - 1, c + kf_), e.t);
     e.vx = wide[0];
     e.vy = wide[1];
     e.v = std::hypot(e.vx, e.vy);
@@ -249,7 +239,7 @@ void EventDetector::update_stats(double v, double dt) {
     stat_var_ = (1.0 - a) * (stat_var_ + a * d * d);
     const double sd = std::sqrt(stat_var_);
     peak_ = std::max(p_.min_peak_dps, stat_mean_ + p_.peak_sd * sd);
-    onset_ = std::max(p_.min_onset_dps, std::min(peak_, stat_mean_ + p_.onset_sd * sd));
+    onset_ = std::max(p_.min_onset_dps(), std::min(peak_, stat_mean_ + p_.onset_sd * sd));
 }
 
 void EventDetector::mark_blink_back(int64_t c) {
@@ -283,9 +273,9 @@ void EventDetector::start_saccade(int64_t c, bool after_pso) {
     const int64_t lo = std::max(emit_next_, base_);
     // A saccade rising out of the previous one's PSO takes back its own rising flank.
     auto usable = [&](int64_t i) {
+        if (i < lo) return false;  // before the buffer: at(i) would read outside it
         const Entry& q = at(i);
-        return i >= lo && std::isfinite(q.v) &&
-               (is_inter(q.label) || (after_pso && q.label == Label::kPso));
+        return std::isfinite(q.v) && (is_inter(q.label) || (after_pso && q.label == Label::kPso));
     };
     while (usable(j - 1) && at(j - 1).v > onset_) --j;
     // Onset: the first sample above the onset threshold. (N&H walk on to the velocity minimum;
@@ -435,8 +425,8 @@ void EventDetector::stage_saccades(int64_t c) {
             const double duration = e.t - at(std::max(sacc_onset_, base_)).t;
             // The saccade ends at the first velocity minimum once the eye has decelerated: what
             // follows a minimum that is still fast is the post-saccadic wobble, not the saccade.
-            const double offset = std::max(
-                {onset_, p_.offset_peak_fraction * sacc_peak_, sacc_local_noise_});
+            const double offset =
+                std::max({onset_, p_.offset_peak_fraction * sacc_peak_, sacc_local_noise_});
             const double vf_next = c + 1 < vel_next_ ? at(c + 1).vf : e.vf;
             const bool sharp_min = !(vf_next < e.vf);
             const bool smooth_end = v < offset && local_min;
@@ -488,8 +478,7 @@ void EventDetector::stage_saccades(int64_t c) {
             state_ = State::kIdle;
             break;
         }
-        case State::kIdle:
-            break;
+        case State::kIdle: break;
     }
     if (v > peak_) {
         start_saccade(c);
@@ -566,12 +555,10 @@ std::vector<double> EventDetector::velocities(std::span<const DetectorInput> sam
     DetectorOutput out;
     for (const auto& s : samples) {
         d.push(s);
-        while (d.pop(out)) {
-        }
+        while (d.pop(out)) {}
     }
     d.flush();
-    while (d.pop(out)) {
-    }
+    while (d.pop(out)) {}
     return v;
 }
 
@@ -601,7 +588,8 @@ VelocityThresholds nh_iterate(const std::vector<double>& v, const DetectorParams
     }
     VelocityThresholds t;
     t.peak_dps = std::max(params.min_peak_dps, peak);
-    t.onset_dps = std::max(params.min_onset_dps, std::min(t.peak_dps, mean + params.onset_sd * sd));
+    t.onset_dps =
+        std::max(params.min_onset_dps(), std::min(t.peak_dps, mean + params.onset_sd * sd));
     return t;
 }
 
@@ -628,12 +616,10 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         DetectorOutput out;
         for (const auto& s : samples) {
             d.push(s);
-            while (d.pop(out)) {
-            }
+            while (d.pop(out)) {}
         }
         d.flush();
-        while (d.pop(out)) {
-        }
+        while (d.pop(out)) {}
         VelocityThresholds next = nh_iterate(v, params);
         double sum = 0;
         size_t m = 0;

@@ -20,9 +20,7 @@ LandingPredictor::LandingPredictor(const LandingParams& params) : p_(params) {
     for (auto& v : cdf_) v /= cdf_[kSteps];
 }
 
-double LandingPredictor::duration_s(double a) const {
-    return (p_.duration_slope_ms * a + p_.duration_intercept_ms) * 1e-3;
-}
+double LandingPredictor::duration_s(double a) const { return p_.main_sequence.duration_s(a); }
 
 double LandingPredictor::profile(double tau, double amplitude_deg) const {
     (void)amplitude_deg;
@@ -89,10 +87,10 @@ double LandingPredictor::amplitude_from_profile(double t, double d, double v) co
 double LandingPredictor::amplitude_from_deceleration(double t, double d, double v) const {
     // A = d + c v (D(A) - t) with D(A) = s A + i  =>  A (1 - c v s) = d + c v (i - t).
     const double cv = p_.deceleration_factor * std::max(0.0, v);
-    const double den = 1.0 - cv * p_.duration_slope_ms * 1e-3;
+    const double den = 1.0 - cv * p_.main_sequence.duration_slope_ms * 1e-3;
     double a = p_.max_amplitude_deg;
     // A speed near the main sequence's asymptote says "large", not how large.
-    if (den > 0.15) a = (d + cv * (p_.duration_intercept_ms * 1e-3 - t)) / den;
+    if (den > 0.15) a = (d + cv * (p_.main_sequence.duration_intercept_ms * 1e-3 - t)) / den;
     return std::clamp(a, std::max(d, 1e-3), std::max(d, p_.max_amplitude_deg));
 }
 
@@ -176,8 +174,8 @@ LandingObservation LandingPredictor::observe(std::span<const double> t_s,
     const double a_decel = amplitude_from_deceleration(t_now, d, v);
     const double a_peak = amplitude_from_peak(t_now, d, v, peak);
     const bool peaked = std::isfinite(a_peak);
-    const double amp = peaked ? std::cbrt(a_profile * a_decel * a_peak)
-                              : std::sqrt(a_profile * a_decel);
+    const double amp =
+        peaked ? std::cbrt(a_profile * a_decel * a_peak) : std::sqrt(a_profile * a_decel);
     if (!std::isfinite(amp)) return obs;
     obs.valid = true;
     obs.x0_deg = x0;
@@ -222,8 +220,8 @@ LandingEstimate LandingPredictor::estimate(const LandingObservation& obs) const 
         // pull-backs stay within e^-1.4), pushed on at most late_max_log_push (landing.hpp).
         amp *= std::exp(w * std::clamp(log_ratio, -2.0, p_.late_max_log_push));
         // The eye has already covered d along the direction: it lands no nearer than that.
-        amp = std::clamp(amp, obs.displacement_deg, std::max(obs.displacement_deg,
-                                                             p_.max_amplitude_deg));
+        amp = std::clamp(amp, obs.displacement_deg,
+                         std::max(obs.displacement_deg, p_.max_amplitude_deg));
     }
     if (!std::isfinite(amp)) return est;
     const double dur = duration_s(amp);
@@ -235,10 +233,9 @@ LandingEstimate LandingPredictor::estimate(const LandingObservation& obs) const 
     est.y_deg = obs.y0_deg + obs.uy * amp;
     // Uncertainty: shrinks with the elapsed fraction as measured on the labels (landing.hpp).
     const double f = std::max(0.05, est.fraction);
-    est.uncertainty_deg =
-        std::min(p_.uncertainty_scale * amp * std::pow(f, -p_.uncertainty_power),
-                 p_.max_amplitude_deg) +
-        p_.position_noise_deg;
+    est.uncertainty_deg = std::min(p_.uncertainty_scale * amp * std::pow(f, -p_.uncertainty_power),
+                                   p_.max_amplitude_deg) +
+                          p_.position_noise_deg;
     return est;
 }
 

@@ -37,8 +37,7 @@ public:
                 x = kx_.filter(x, t_s);
                 y = ky_.filter(y, t_s);
                 break;
-            case FilterKind::kNone:
-                break;
+            case FilterKind::kNone: break;
         }
     }
 

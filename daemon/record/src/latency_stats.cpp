@@ -1,6 +1,8 @@
 #include "fovea/record/latency_stats.hpp"
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
 
 #include "fovea/gaze/sample.hpp"
 
@@ -8,7 +10,7 @@ namespace fovea::record {
 
 namespace {
 constexpr std::array<std::string_view, kHopCount> kHopNames = {
-    "capture_to_receive", "receive_to_processed", "processed_to_publish", "publish_to_read",
+    "capture_to_receive",  "receive_to_processed",  "processed_to_publish", "publish_to_read",
     "read_to_frame_begin", "frame_begin_to_submit", "submit_to_present"};
 
 double us(uint64_t ns) { return static_cast<double>(ns) / 1000.0; }
@@ -64,18 +66,30 @@ Result<void> histogram_from_json(const nlohmann::json& j, LatencyHistogram& out)
     if (!j.is_object() || !j.contains("buckets") || !j["buckets"].is_array()) {
         return make_error("latency histogram JSON needs a \"buckets\" array (status with buckets)");
     }
+    // nlohmann's get<uint64_t>() of a float or negative number is undefined behaviour, not an
+    // exception, so every count is checked to be a non-negative integer first.
+    auto count = [](const nlohmann::json& v, const std::string& what) {
+        const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<int64_t>() >= 0);
+        if (!ok) throw std::invalid_argument(what + " is not a count");
+        return v.get<uint64_t>();
+    };
     LatencyHistogram::Sparse s;
     try {
-        s.count = j.at("count").get<uint64_t>();
-        s.negative = j.value("negative", uint64_t{0});
-        s.sum_ns = j.at("sum_ns").get<uint64_t>();
-        s.min_ns = j.at("min_ns").get<uint64_t>();
-        s.max_ns = j.at("max_ns").get<uint64_t>();
+        s.count = count(j.at("count"), "count");
+        s.negative = j.contains("negative") ? count(j["negative"], "negative") : 0;
+        s.sum_ns = count(j.at("sum_ns"), "sum_ns");
+        s.min_ns = count(j.at("min_ns"), "min_ns");
+        s.max_ns = count(j.at("max_ns"), "max_ns");
         for (const auto& b : j["buckets"]) {
-            s.buckets.emplace_back(b.at(0).get<int>(), b.at(1).get<uint64_t>());
+            if (!b.at(0).is_number_integer()) throw std::invalid_argument("bucket index");
+            s.buckets.emplace_back(b.at(0).get<int>(), count(b.at(1), "bucket count"));
         }
-    } catch (const nlohmann::json::exception& e) {
+    } catch (const std::exception& e) {  // nlohmann's exceptions and the checks above
         return make_error(std::string("latency histogram JSON: ") + e.what());
+    }
+    if (s.count && s.min_ns > s.max_ns) {  // percentile() clamps into [min, max]
+        out.reset();
+        return make_error("latency histogram JSON: min_ns above max_ns");
     }
     if (!out.assign(s)) {
         return make_error("latency histogram JSON: bucket index out of range or counts != count");

@@ -42,10 +42,12 @@ Result<std::vector<CsvFile>> export_csv(const xdf::File& file, const std::string
         const int hi = s.channel_index("device_ticks_hi");
         const int lo = s.channel_index("device_ticks_lo");
         const bool ticks = has_origin && hi >= 0 && lo >= 0;
-        std::vector<int> kind(static_cast<std::size_t>(s.channel_count), 0);  // 0 value, 1 abs ns, 2 skip
+        std::vector<int> kind(static_cast<std::size_t>(s.channel_count),
+                              0);  // 0 value, 1 abs ns, 2 skip
         std::string line = "timestamp_s";
         for (int c = 0; c < s.channel_count; ++c) {
-            const std::string label = c < static_cast<int>(s.labels.size()) && !s.labels[static_cast<std::size_t>(c)].empty()
+            const std::string label = c < static_cast<int>(s.labels.size()) &&
+                                              !s.labels[static_cast<std::size_t>(c)].empty()
                                           ? s.labels[static_cast<std::size_t>(c)]
                                           : "ch" + std::to_string(c);
             if (ticks && c == hi) {
@@ -70,14 +72,16 @@ Result<std::vector<CsvFile>> export_csv(const xdf::File& file, const std::string
                 if (k == 2) continue;
                 line += ',';
                 if (s.format == xdf::Format::kString) {
-                    line += s.string_values[i * static_cast<std::size_t>(s.channel_count) + static_cast<std::size_t>(c)];
+                    line += s.string_values[i * static_cast<std::size_t>(s.channel_count) +
+                                            static_cast<std::size_t>(c)];
                     continue;
                 }
                 const double v = s.value(i, c);
                 if (k == 1) {
                     if (!std::isnan(v)) line += std::to_string(origin + static_cast<int64_t>(v));
                 } else if (k == 3) {
-                    const uint64_t t = (static_cast<uint64_t>(v) << 32) | static_cast<uint64_t>(s.value(i, lo));
+                    const uint64_t t =
+                        (static_cast<uint64_t>(v) << 32) | static_cast<uint64_t>(s.value(i, lo));
                     line += std::to_string(t);
                 } else {
                     put_double(line, v);
@@ -86,7 +90,8 @@ Result<std::vector<CsvFile>> export_csv(const xdf::File& file, const std::string
             line += '\n';
             std::fwrite(line.data(), 1, line.size(), f);
         }
-        if (std::fclose(f) != 0) return make_error("writing " + path + ": " + std::strerror(errno), errno);
+        if (std::fclose(f) != 0)
+            return make_error("writing " + path + ": " + std::strerror(errno), errno);
         out.push_back({path, s.name, s.sample_count()});
     }
     return out;
@@ -95,7 +100,8 @@ Result<std::vector<CsvFile>> export_csv(const xdf::File& file, const std::string
 Result<Recording> decode_recording(const xdf::File& file) {
     const auto* raw = file.find(kRawStreamName);
     const auto* gz = file.find(kGazeStreamName);
-    if (!raw || !gz) return make_error("not a Fovea recording: streams FoveaRawGaze/FoveaGaze missing");
+    if (!raw || !gz)
+        return make_error("not a Fovea recording: streams FoveaRawGaze/FoveaGaze missing");
     if (raw->channel_count != raw_channel_count() || gz->channel_count != gaze_channel_count()) {
         return make_error("Fovea recording of another layout (channel counts differ)");
     }
@@ -106,14 +112,16 @@ Result<Recording> decode_recording(const xdf::File& file) {
     const int64_t o = r.info.time_origin_ns;
     for (std::size_t i = 0; i < raw->sample_count(); ++i) {
         bool pl = true, pre = false;
-        r.raw.push_back(decode_raw(&raw->values[i * static_cast<std::size_t>(raw->channel_count)], o, &pl, &pre));
+        r.raw.push_back(decode_raw(&raw->values[i * static_cast<std::size_t>(raw->channel_count)],
+                                   o, &pl, &pre));
         r.raw_predict_landing.push_back(pl);
         r.raw_preroll.push_back(pre);
     }
     for (std::size_t i = 0; i < gz->sample_count(); ++i) {
         int64_t pub = 0;
         uint64_t idx = 0;
-        r.gaze.push_back(decode_gaze(&gz->values[i * static_cast<std::size_t>(gz->channel_count)], o, &pub, &idx));
+        r.gaze.push_back(decode_gaze(&gz->values[i * static_cast<std::size_t>(gz->channel_count)],
+                                     o, &pub, &idx));
         r.t_publish_ns.push_back(pub);
         r.ring_index.push_back(idx);
     }
@@ -129,30 +137,40 @@ gaze::PipelineConfig pipeline_config(const RecordingInfo& info) {
 }
 
 std::string first_difference(const gaze::GazeSample& a, const gaze::GazeSample& b) {
-#define FOVEA_CMP(f)                                                   \
-    if (!bits_equal(static_cast<double>(a.f), static_cast<double>(b.f))) return #f;
-#define FOVEA_CMP_EYE(e) FOVEA_CMP(e.x) FOVEA_CMP(e.y) FOVEA_CMP(e.pupil_mm) FOVEA_CMP(e.valid)
-    FOVEA_CMP(t_capture_ns)
-    FOVEA_CMP(t_receive_ns)
-    FOVEA_CMP(clock_uncertainty_us)
-    FOVEA_CMP(clock_converged)
-    FOVEA_CMP_EYE(left)
-    FOVEA_CMP_EYE(right)
-    FOVEA_CMP_EYE(combined)
-    FOVEA_CMP(left_deg_x) FOVEA_CMP(left_deg_y) FOVEA_CMP(right_deg_x) FOVEA_CMP(right_deg_y)
-    FOVEA_CMP(combined_deg_x) FOVEA_CMP(combined_deg_y)
-    FOVEA_CMP(event)
-    FOVEA_CMP(saccade.onset_ns)
-    FOVEA_CMP(saccade.amplitude_deg)
-    FOVEA_CMP(saccade.peak_velocity_dps)
-    FOVEA_CMP(saccade.direction_deg)
-    FOVEA_CMP(saccade.landing_valid)
-    FOVEA_CMP(saccade.landing_x) FOVEA_CMP(saccade.landing_y)
-    FOVEA_CMP(saccade.landing_deg_x) FOVEA_CMP(saccade.landing_deg_y)
-    FOVEA_CMP(saccade.landing_uncertainty_deg)
-    FOVEA_CMP(calibrated)
-    FOVEA_CMP(device_id)
-    FOVEA_CMP(truth)
+#define FOVEA_CMP(f) \
+    if (!bits_equal(static_cast<double>(a.f), static_cast<double>(b.f))) return #f
+#define FOVEA_CMP_EYE(e)   \
+    FOVEA_CMP(e.x);        \
+    FOVEA_CMP(e.y);        \
+    FOVEA_CMP(e.pupil_mm); \
+    FOVEA_CMP(e.valid)
+    FOVEA_CMP(t_capture_ns);
+    FOVEA_CMP(t_receive_ns);
+    FOVEA_CMP(clock_uncertainty_us);
+    FOVEA_CMP(clock_converged);
+    FOVEA_CMP_EYE(left);
+    FOVEA_CMP_EYE(right);
+    FOVEA_CMP_EYE(combined);
+    FOVEA_CMP(left_deg_x);
+    FOVEA_CMP(left_deg_y);
+    FOVEA_CMP(right_deg_x);
+    FOVEA_CMP(right_deg_y);
+    FOVEA_CMP(combined_deg_x);
+    FOVEA_CMP(combined_deg_y);
+    FOVEA_CMP(event);
+    FOVEA_CMP(saccade.onset_ns);
+    FOVEA_CMP(saccade.amplitude_deg);
+    FOVEA_CMP(saccade.peak_velocity_dps);
+    FOVEA_CMP(saccade.direction_deg);
+    FOVEA_CMP(saccade.landing_valid);
+    FOVEA_CMP(saccade.landing_x);
+    FOVEA_CMP(saccade.landing_y);
+    FOVEA_CMP(saccade.landing_deg_x);
+    FOVEA_CMP(saccade.landing_deg_y);
+    FOVEA_CMP(saccade.landing_uncertainty_deg);
+    FOVEA_CMP(calibrated);
+    FOVEA_CMP(device_id);
+    FOVEA_CMP(truth);
 #undef FOVEA_CMP_EYE
 #undef FOVEA_CMP
     return {};

@@ -6,8 +6,8 @@
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
-#include <stb/stb_image_write.h>
 #include <stb/stb_easy_font.h>
+#include <stb/stb_image_write.h>
 
 namespace fovea::record {
 
@@ -41,7 +41,8 @@ void Canvas::rect(int x0, int y0, int x1, int y1, Rgb c) {
 }
 
 void Canvas::line(double x0, double y0, double x1, double y1, Rgb c, int thickness) {
-    if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return;
+    if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1))
+        return;
     const double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
     const int steps = std::min(100000, static_cast<int>(std::ceil(len)) + 1);
     const int r0 = -(thickness - 1) / 2, r1 = thickness / 2;
@@ -71,7 +72,8 @@ int Canvas::text_width(const std::string& s, int scale) {
 
 int Canvas::text(int x, int y, const std::string& s, Rgb c, int scale) {
     static char buf[200000];
-    const int quads = stb_easy_font_print(0, 0, const_cast<char*>(s.c_str()), nullptr, buf, sizeof buf);
+    const int quads =
+        stb_easy_font_print(0, 0, const_cast<char*>(s.c_str()), nullptr, buf, sizeof buf);
     // each quad: 4 vertices of (x, y, z floats + rgba bytes) = 16 bytes; axis-aligned
     for (int q = 0; q < quads; ++q) {
         const float* v0 = reinterpret_cast<const float*>(buf + q * 64);
@@ -124,7 +126,9 @@ std::string fmt_tick(double v) {
 }  // namespace
 
 Plot::Plot(int width, int height, std::string title, std::string xlabel, std::string ylabel)
-    : canvas_(width, height), title_(std::move(title)), xlabel_(std::move(xlabel)),
+    : canvas_(width, height),
+      title_(std::move(title)),
+      xlabel_(std::move(xlabel)),
       ylabel_(std::move(ylabel)) {}
 
 void Plot::set_x(double lo, double hi, bool log) {
@@ -149,13 +153,15 @@ double Plot::py(double y) const {
     return canvas_.height() - bottom_ - (v - a) / (b - a) * (canvas_.height() - top_ - bottom_);
 }
 
-void Plot::line(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c, int thickness) {
+void Plot::line(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c,
+                int thickness) {
     for (std::size_t i = 1; i < xs.size() && i < ys.size(); ++i) {
         canvas_.line(px(xs[i - 1]), py(ys[i - 1]), px(xs[i]), py(ys[i]), c, thickness);
     }
 }
 void Plot::points(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c, int radius) {
-    for (std::size_t i = 0; i < xs.size() && i < ys.size(); ++i) canvas_.dot(px(xs[i]), py(ys[i]), radius, c);
+    for (std::size_t i = 0; i < xs.size() && i < ys.size(); ++i)
+        canvas_.dot(px(xs[i]), py(ys[i]), radius, c);
 }
 void Plot::bars(const std::vector<double>& lo, const std::vector<double>& hi,
                 const std::vector<double>& ys, Rgb c) {
@@ -168,7 +174,8 @@ void Plot::bars(const std::vector<double>& lo, const std::vector<double>& hi,
     }
 }
 void Plot::xspan(double a, double b, Rgb c) {
-    canvas_.rect(static_cast<int>(px(a)), top_, static_cast<int>(px(b)), canvas_.height() - bottom_, c);
+    canvas_.rect(static_cast<int>(px(a)), top_, static_cast<int>(px(b)), canvas_.height() - bottom_,
+                 c);
 }
 void Plot::vline(double x, Rgb c, const std::string& label) {
     const double X = px(x);
@@ -176,7 +183,8 @@ void Plot::vline(double x, Rgb c, const std::string& label) {
     if (label.empty()) return;
     // stagger labels downwards; flip to the left of the line near the right edge
     const int w = Canvas::text_width(label);
-    const int tx = X + 3 + w > canvas_.width() - right_ ? static_cast<int>(X) - 3 - w : static_cast<int>(X) + 3;
+    const int tx = X + 3 + w > canvas_.width() - right_ ? static_cast<int>(X) - 3 - w
+                                                        : static_cast<int>(X) + 3;
     canvas_.text(tx, top_ + 2 + 12 * (vlines_++ % 4), label, c);
 }
 void Plot::legend(const std::string& label, Rgb c) { legend_.emplace_back(label, c); }
@@ -214,14 +222,15 @@ Canvas& Plot::finish() {
     }
     canvas_.line(left_, top_, left_, H - bottom_, kAxis);
     canvas_.line(left_, H - bottom_, W - right_, H - bottom_, kAxis);
-    canvas_.text(left_, 8, title_, {0, 0, 0}, 2);
-    canvas_.text(left_ + (W - left_ - right_ - Canvas::text_width(xlabel_)) / 2, H - 18, xlabel_, kAxis);
+    canvas_.text(left_, 6, title_, {0, 0, 0}, 2);
+    canvas_.text(left_ + (W - left_ - right_ - Canvas::text_width(xlabel_)) / 2, H - 18, xlabel_,
+                 kAxis);
     canvas_.text(4, top_ - 12, ylabel_, kAxis);
     int lx = W - right_ - 6;
     for (auto it = legend_.rbegin(); it != legend_.rend(); ++it) {
         lx -= Canvas::text_width(it->first) + 20;
-        canvas_.rect(lx, 14, lx + 9, 22, it->second);
-        canvas_.text(lx + 13, 15, it->first, kAxis);
+        canvas_.rect(lx, 25, lx + 9, 33, it->second);  // a row of its own under the title
+        canvas_.text(lx + 13, 26, it->first, kAxis);
     }
     return canvas_;
 }

@@ -1,11 +1,11 @@
 #include "fovea/record/recorder.hpp"
 
-#include <cerrno>
-#include <cstring>
-#include <ctime>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
+#include <ctime>
 
 namespace fovea::record {
 
@@ -43,7 +43,8 @@ Result<std::unique_ptr<Recorder>> Recorder::start(RecorderOptions options) {
     if (options.path.empty()) return make_error("recording path is empty");
     if (options.info.time_origin_ns == 0) options.info.time_origin_ns = monotonic_ns();
     if (options.info.hostname.empty()) options.info.hostname = hostname();
-    options.flush_interval_ns = std::clamp<int64_t>(options.flush_interval_ns, 1'000'000, 1'000'000'000);
+    options.flush_interval_ns =
+        std::clamp<int64_t>(options.flush_interval_ns, 1'000'000, 1'000'000'000);
     const int fd = ::open(options.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) {
         const int e = errno;
@@ -70,7 +71,8 @@ Result<std::unique_ptr<Recorder>> Recorder::start(RecorderOptions options) {
         struct stat st {};
         if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) ::unlink(options.path.c_str());
         ::close(fd);
-        return make_error("cannot write recording " + options.path + ": " + std::strerror(err), err);
+        return make_error("cannot write recording " + options.path + ": " + std::strerror(err),
+                          err);
     }
     std::unique_ptr<Recorder> r(new Recorder(std::move(options), fd));
     r->bytes_ = enc.buffer().size();
@@ -129,7 +131,8 @@ void Recorder::push_gaze(const gaze::GazeSample& s, int64_t t_publish_ns, uint64
             continue;
         }
         const bool gz = k == kGaze;
-        pending_[k].stamps.push_back(static_cast<double>(gz ? s.t_capture_ns : t_publish_ns) * 1e-9);
+        pending_[k].stamps.push_back(static_cast<double>(gz ? s.t_capture_ns : t_publish_ns) *
+                                     1e-9);
         const double* row = gz ? g : l;
         pending_[k].rows.insert(pending_[k].rows.end(), row,
                                 row + (gz ? gaze_channel_count() : latency_channel_count()));
@@ -213,7 +216,8 @@ bool Recorder::write_pending(bool final) {
             std::string extra = "  <clock_offsets>";
             for (const auto& [t, o] : st.offsets) {
                 char b[96];
-                std::snprintf(b, sizeof b, "<offset><time>%.17g</time><value>%.17g</value></offset>", t, o);
+                std::snprintf(b, sizeof b,
+                              "<offset><time>%.17g</time><value>%.17g</value></offset>", t, o);
                 extra += b;
             }
             extra += "</clock_offsets>\n  <dropped_samples>" + std::to_string(dropped_.load()) +
@@ -261,7 +265,8 @@ Result<RecorderStats> Recorder::stop() {
     if (writer_.joinable()) writer_.join();
     stopped_ = true;
     if (fd_ >= 0) {
-        if (!failed_.load() && ::fsync(fd_) != 0 && errno != EINVAL) fail("cannot sync recording", errno);
+        if (!failed_.load() && ::fsync(fd_) != 0 && errno != EINVAL)
+            fail("cannot sync recording", errno);
         ::close(fd_);
         fd_ = -1;
     }

@@ -93,14 +93,17 @@ std::string setup_xml(const RecordingInfo& i) {
     x += "    <time_origin_ns>" + std::to_string(i.time_origin_ns) + "</time_origin_ns>\n";
     x += "    <time_note>channels with unit ns are offsets from time_origin_ns "
          "(CLOCK_MONOTONIC)</time_note>\n";
-    x += "    <acquisition><manufacturer>Fovea</manufacturer><model>" + xdf::xml_escape(i.device_name) +
-         "</model><driver>" + xdf::xml_escape(i.driver) + "</driver><address>" +
-         xdf::xml_escape(i.address) + "</address><hostname>" + xdf::xml_escape(i.hostname) +
-         "</hostname></acquisition>\n";
-    x += "    <device><nominal_rate_hz>" + num(i.nominal_rate_hz) + "</nominal_rate_hz><counter_bits>" +
-         std::to_string(i.clock.counter_bits) + "</counter_bits><tick_hz>" + num(i.clock.tick_hz) +
-         "</tick_hz><binocular>" + (i.binocular ? "1" : "0") + "</binocular><has_pupil>" +
-         (i.has_pupil ? "1" : "0") + "</has_pupil></device>\n";
+    x += "    <acquisition><manufacturer>Fovea</manufacturer><model>" +
+         xdf::xml_escape(i.device_name) + "</model><driver>" + xdf::xml_escape(i.driver) +
+         "</driver><address>" + xdf::xml_escape(i.address) + "</address><hostname>" +
+         xdf::xml_escape(i.hostname) + "</hostname></acquisition>\n";
+    x += "    <device><nominal_rate_hz>" + num(i.nominal_rate_hz) +
+         "</nominal_rate_hz><counter_bits>" + std::to_string(i.clock.counter_bits) +
+         "</counter_bits><tick_hz>" + num(i.clock.tick_hz) + "</tick_hz><host_synced>" +
+         (i.clock.host_synced ? "1" : "0") + "</host_synced><sync_uncertainty_us>" +
+         num(i.clock.sync_uncertainty_us) + "</sync_uncertainty_us><binocular>" +
+         (i.binocular ? "1" : "0") + "</binocular><has_pupil>" + (i.has_pupil ? "1" : "0") +
+         "</has_pupil></device>\n";
     const auto& d = i.display;
     x += "    <display><width_px>" + std::to_string(d.width_px) + "</width_px><height_px>" +
          std::to_string(d.height_px) + "</height_px><width_m>" + num(d.width_m) +
@@ -121,7 +124,8 @@ xdf::StreamInfo make_info(const RecordingInfo& i, const char* name, const char* 
     s.nominal_srate = srate;
     s.source_id = "fovea:" + i.driver + ":" + i.address + ":" + suffix;
     s.created_at = static_cast<double>(i.time_origin_ns) * 1e-9;
-    for (std::size_t k = 0; k < n; ++k) s.channels.push_back({chans[k].label, chans[k].unit, chans[k].type});
+    for (std::size_t k = 0; k < n; ++k)
+        s.channels.push_back({chans[k].label, chans[k].unit, chans[k].type});
     s.desc_extra_xml = setup_xml(i);
     return s;
 }
@@ -151,7 +155,8 @@ xdf::StreamInfo raw_stream_info(const RecordingInfo& i) {
     return make_info(i, kRawStreamName, "Gaze", kRaw, std::size(kRaw), i.nominal_rate_hz, "raw");
 }
 xdf::StreamInfo gaze_stream_info(const RecordingInfo& i) {
-    return make_info(i, kGazeStreamName, "Gaze", kGaze, std::size(kGaze), i.nominal_rate_hz, "gaze");
+    return make_info(i, kGazeStreamName, "Gaze", kGaze, std::size(kGaze), i.nominal_rate_hz,
+                     "gaze");
 }
 xdf::StreamInfo latency_stream_info(const RecordingInfo& i) {
     return make_info(i, kLatencyStreamName, "Latency", kLatency, std::size(kLatency),
@@ -171,7 +176,8 @@ bool is_relative_ns_channel(const std::string& label) {
 Result<RecordingInfo> recording_info_from_xml(const std::string& x) {
     RecordingInfo i;
     const std::string origin = xdf::xml_text(x, "time_origin_ns");
-    if (origin.empty()) return make_error("stream header has no <time_origin_ns>: not a Fovea recording");
+    if (origin.empty())
+        return make_error("stream header has no <time_origin_ns>: not a Fovea recording");
     i.time_origin_ns = std::strtoll(origin.c_str(), nullptr, 10);
     i.device_name = xdf::xml_text(x, "model");
     i.driver = xdf::xml_text(x, "driver");
@@ -184,6 +190,8 @@ Result<RecordingInfo> recording_info_from_xml(const std::string& x) {
     i.nominal_rate_hz = d("nominal_rate_hz", 0.0);
     i.clock.counter_bits = static_cast<int>(d("counter_bits", 64));
     i.clock.tick_hz = d("tick_hz", 1e9);
+    i.clock.host_synced = d("host_synced", 0) != 0;
+    i.clock.sync_uncertainty_us = d("sync_uncertainty_us", 0.0);
     i.binocular = d("binocular", 1) != 0;
     i.has_pupil = d("has_pupil", 0) != 0;
     i.preroll_from_start = d("preroll_from_start", 0) != 0;
@@ -296,7 +304,8 @@ gaze::GazeSample decode_gaze(const double* r, int64_t origin, int64_t* t_publish
     return s;
 }
 
-void encode_latency(const gaze::GazeSample& s, int64_t t_publish_ns, uint64_t ring_index, double* r) {
+void encode_latency(const gaze::GazeSample& s, int64_t t_publish_ns, uint64_t ring_index,
+                    double* r) {
     *r++ = static_cast<double>(ring_index);
     *r++ = static_cast<double>(s.t_receive_ns - s.t_capture_ns) / 1000.0;
     *r++ = static_cast<double>(s.t_processed_ns - s.t_receive_ns) / 1000.0;

@@ -1,11 +1,11 @@
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <optional>
-#include <fcntl.h>
 #include <string>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "fovea/record/xdf.hpp"
 
@@ -112,7 +112,9 @@ Result<void> parse_stream_header(Stream& s, std::string_view xml) {
     const std::string cc = xml_text(xml, "channel_count");
     const std::string fmt = xml_text(xml, "channel_format");
     const auto f = parse_format(fmt);
-    if (!f) return make_error("stream " + std::to_string(s.id) + ": unknown channel_format '" + fmt + "'");
+    if (!f)
+        return make_error("stream " + std::to_string(s.id) + ": unknown channel_format '" + fmt +
+                          "'");
     s.format = *f;
     char* end = nullptr;
     const long n = std::strtol(cc.c_str(), &end, 10);
@@ -156,7 +158,9 @@ bool parse_samples(Stream& s, Cursor& c) {
             switch (s.format) {
                 case Format::kDouble64: s.values.push_back(c.get<double>()); break;
                 case Format::kFloat32: s.values.push_back(c.get<float>()); break;
-                case Format::kInt64: s.values.push_back(static_cast<double>(c.get<int64_t>())); break;
+                case Format::kInt64:
+                    s.values.push_back(static_cast<double>(c.get<int64_t>()));
+                    break;
                 case Format::kInt32: s.values.push_back(c.get<int32_t>()); break;
                 case Format::kInt16: s.values.push_back(c.get<int16_t>()); break;
                 case Format::kInt8: s.values.push_back(c.get<int8_t>()); break;
@@ -242,8 +246,12 @@ Result<File> parse(const uint8_t* data, std::size_t size) {
             case Tag::kStreamHeader: {
                 Stream s;
                 s.id = c.get<uint32_t>();
-                if (!c.ok) { good = false; break; }
-                if (f.find(s.id)) return make_error("duplicate stream header " + std::to_string(s.id));
+                if (!c.ok) {
+                    good = false;
+                    break;
+                }
+                if (f.find(s.id))
+                    return make_error("duplicate stream header " + std::to_string(s.id));
                 if (auto r = parse_stream_header(s, c.rest()); !r) return r.error();
                 f.streams.push_back(std::move(s));
                 break;
@@ -251,7 +259,10 @@ Result<File> parse(const uint8_t* data, std::size_t size) {
             case Tag::kSamples: {
                 const uint32_t id = c.get<uint32_t>();
                 Stream* s = c.ok ? f.find(id) : nullptr;
-                if (!s) { good = false; break; }
+                if (!s) {
+                    good = false;
+                    break;
+                }
                 const std::size_t keep_s = s->stamps.size(), keep_v = s->values.size(),
                                   keep_str = s->string_values.size();
                 if (!parse_samples(*s, c) || c.pos != c.n) {
@@ -266,7 +277,10 @@ Result<File> parse(const uint8_t* data, std::size_t size) {
                 const uint32_t id = c.get<uint32_t>();
                 const double t = c.get<double>(), o = c.get<double>();
                 Stream* s = c.ok ? f.find(id) : nullptr;
-                if (!s) { good = false; break; }
+                if (!s) {
+                    good = false;
+                    break;
+                }
                 s->clock_offsets.emplace_back(t, o);
                 break;
             }
@@ -280,15 +294,18 @@ Result<File> parse(const uint8_t* data, std::size_t size) {
             case Tag::kStreamFooter: {
                 const uint32_t id = c.get<uint32_t>();
                 Stream* s = c.ok ? f.find(id) : nullptr;
-                if (!s) { good = false; break; }
+                if (!s) {
+                    good = false;
+                    break;
+                }
                 s->footer_xml.assign(c.rest());
                 break;
             }
-            default:
-                break;  // unknown tags are skipped, as the spec asks
+            default: break;  // unknown tags are skipped, as the spec asks
         }
         if (!good) {
-            stop("malformed chunk (tag " + std::to_string(tag) + ") at byte " + std::to_string(pos));
+            stop("malformed chunk (tag " + std::to_string(tag) + ") at byte " +
+                 std::to_string(pos));
             break;
         }
         f.chunks.push_back(info);
@@ -329,7 +346,8 @@ Result<RepairReport> repair(const std::string& path) {
         return rep;
     }
     const int fd = ::open(path.c_str(), O_WRONLY);
-    if (fd < 0) return make_error("cannot open " + path + " for writing: " + std::strerror(errno), errno);
+    if (fd < 0)
+        return make_error("cannot open " + path + " for writing: " + std::strerror(errno), errno);
     auto fail = [&](const char* what) {
         const int e = errno;
         ::close(fd);
@@ -343,7 +361,8 @@ Result<RepairReport> repair(const std::string& path) {
         std::string extra = "  <repaired_by>fovea repair</repaired_by>\n  <clock_offsets>";
         for (const auto& [t, o] : s.clock_offsets) {
             char b[96];
-            std::snprintf(b, sizeof b, "<offset><time>%.17g</time><value>%.17g</value></offset>", t, o);
+            std::snprintf(b, sizeof b, "<offset><time>%.17g</time><value>%.17g</value></offset>", t,
+                          o);
             extra += b;
         }
         extra += "</clock_offsets>\n";

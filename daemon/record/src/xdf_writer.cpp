@@ -71,8 +71,8 @@ std::string stream_header_xml(const StreamInfo& info) {
     x += "  <created_at>" + num(info.created_at) + "</created_at>\n";
     x += "  <desc>\n    <channels>\n";
     for (const auto& c : info.channels) {
-        x += "      <channel><label>" + xml_escape(c.label) + "</label><unit>" + xml_escape(c.unit) +
-             "</unit><type>" + xml_escape(c.type) + "</type></channel>\n";
+        x += "      <channel><label>" + xml_escape(c.label) + "</label><unit>" +
+             xml_escape(c.unit) + "</unit><type>" + xml_escape(c.type) + "</type></channel>\n";
     }
     x += "    </channels>\n";
     x += info.desc_extra_xml;
@@ -129,11 +129,8 @@ void ChunkEncoder::stream_header(uint32_t id, const StreamInfo& info) {
     end_chunk();
 }
 
-void ChunkEncoder::samples(uint32_t id, Format format, int channels, const double* stamps,
-                           const double* values, std::size_t n) {
-    begin_chunk(Tag::kSamples);
-    put_le(id);
-    // sample count: varlen, same 1/4/8 scheme as chunk lengths
+void ChunkEncoder::sample_count(std::size_t n) {
+    // varlen, same 1/4/8 scheme as chunk lengths
     if (n <= 0xFF) {
         put_le(uint8_t{1});
         put_le(static_cast<uint8_t>(n));
@@ -144,6 +141,28 @@ void ChunkEncoder::samples(uint32_t id, Format format, int channels, const doubl
         put_le(uint8_t{8});
         put_le(static_cast<uint64_t>(n));
     }
+}
+
+void ChunkEncoder::string_samples(uint32_t id, const double* stamps, const std::string* values,
+                                  std::size_t n) {
+    begin_chunk(Tag::kSamples);
+    put_le(id);
+    sample_count(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        put_le(uint8_t{8});
+        put_le(stamps[i]);
+        put_le(uint8_t{4});
+        put_le(static_cast<uint32_t>(values[i].size()));
+        put(values[i].data(), values[i].size());
+    }
+    end_chunk();
+}
+
+void ChunkEncoder::samples(uint32_t id, Format format, int channels, const double* stamps,
+                           const double* values, std::size_t n) {
+    begin_chunk(Tag::kSamples);
+    put_le(id);
+    sample_count(n);
     const std::size_t row = static_cast<std::size_t>(channels);
     buf_.reserve(buf_.size() + n * (9 + row * static_cast<std::size_t>(format_bytes(format))));
     for (std::size_t i = 0; i < n; ++i) {

@@ -18,9 +18,12 @@ int main(int argc, char** argv) {
     long count = 10;
     int timeout_ms = 2000;
     for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--instance") && i + 1 < argc) instance = argv[++i];
-        else if (!strcmp(argv[i], "--count") && i + 1 < argc) count = strtol(argv[++i], NULL, 10);
-        else if (!strcmp(argv[i], "--timeout-ms") && i + 1 < argc) timeout_ms = atoi(argv[++i]);
+        if (!strcmp(argv[i], "--instance") && i + 1 < argc)
+            instance = argv[++i];
+        else if (!strcmp(argv[i], "--count") && i + 1 < argc)
+            count = strtol(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--timeout-ms") && i + 1 < argc)
+            timeout_ms = atoi(argv[++i]);
         else {
             fprintf(stderr, "usage: %s [--instance NAME] [--count N] [--timeout-ms MS]\n", argv[0]);
             return 2;
@@ -72,8 +75,8 @@ int main(int argc, char** argv) {
                    (double)r[i].t_capture_ns / 1e9, r[i].combined.norm_x, r[i].combined.norm_y,
                    event_name(r[i].event));
     }
-    if (dropped_total) fprintf(stderr, "gaze_print: %llu samples overrun\n",
-                               (unsigned long long)dropped_total);
+    if (dropped_total)
+        fprintf(stderr, "gaze_print: %llu samples overrun\n", (unsigned long long)dropped_total);
     fovea_client_close(&client);
     return 0;
 }

@@ -3,14 +3,13 @@
  * Every function returns FOVEA_OK (0) or a negative fovea_status; on failure the text of
  * fovea_last_error() (thread-local) says what went wrong. No function throws, allocates after
  * open/create, or takes a lock: readers never slow the writer down, and a client killed mid-read
- * leaves nothing behind. (fovea_frame_latency_report, below, does blocking socket I/O.) One fovea_client may be used by one thread at a time; open one per thread if
- * several threads read.
+ * leaves nothing behind. (fovea_frame_latency_report, below, does blocking socket I/O.) One
+ * fovea_client may be used by one thread at a time; open one per thread if several threads read.
  *
  * Typical loop:
  *   fovea_client* c = NULL;
- *   if (fovea_client_open("default", FOVEA_STREAM_GAZE, &c) != FOVEA_OK) { puts(fovea_last_error()); }
- *   uint64_t cursor = fovea_client_head(c);
- *   for (;;) {
+ *   if (fovea_client_open("default", FOVEA_STREAM_GAZE, &c) != FOVEA_OK) {
+ * puts(fovea_last_error()); } uint64_t cursor = fovea_client_head(c); for (;;) {
  *       fovea_client_wait(c, cursor, 100);
  *       fovea_gaze_record r[64]; uint32_t n = 0; uint64_t dropped = 0;
  *       fovea_client_read(c, &cursor, r, 64, &n, &dropped);
@@ -83,6 +82,10 @@ FOVEA_API int fovea_client_open(const char* instance, fovea_stream_kind kind,
 FOVEA_API void fovea_client_close(fovea_client** client);
 
 FOVEA_API int fovea_client_info(const fovea_client* client, fovea_ring_info* out_info);
+/* The HMD eye geometry the writer maps gaze with (ring.h, fovea_eye_geometry); all zero (ipd_m
+ * == 0) when it has none. Changes only with a new writer generation. */
+FOVEA_API int fovea_client_eye_geometry(const fovea_client* client,
+                                        fovea_eye_geometry* out_geometry);
 
 /* Number of records published so far in this generation: the next record's index. */
 FOVEA_API uint64_t fovea_client_head(const fovea_client* client);
@@ -105,8 +108,19 @@ FOVEA_API int fovea_client_read_head(fovea_client* client, uint64_t* cursor,
 
 /* Block until a record with index >= cursor exists (returns FOVEA_OK at once if it does), or
  * `timeout_ms` passes (FOVEA_E_TIMEOUT; a negative timeout waits forever). Sleeps on a futex
- * on the ring header; no CPU is burnt. Detects a restarted writer (FOVEA_E_WRITER_RESTARTED). */
+ * on the ring header; by default no CPU is burnt. Detects a restarted writer
+ * (FOVEA_E_WRITER_RESTARTED). */
 FOVEA_API int fovea_client_wait(fovea_client* client, uint64_t cursor, int32_t timeout_ms);
+
+/* Opt-in spin for fovea_client_wait, for a reader with a core of its own: waiting for the very
+ * next record of a writer with a steady cadence (learned from the records' publish stamps), it
+ * wakes from the futex sleep just before the record is due (early by the timer lateness it has
+ * learned) and spins through a window of at most 1/8 of the writer's interval, once per record,
+ * so the record is seen without the scheduler's wake-up latency. max_spin_us: 0 never spin (the
+ * default), < 0 adaptive (1/8 of the interval), > 0 at most that many microseconds per record.
+ * On an oversubscribed machine the spinner is preempted and this is slower than sleeping
+ * (tests/ring/ring_latency_bench measures both). */
+FOVEA_API int fovea_client_set_wait_spin(fovea_client* client, int32_t max_spin_us);
 
 /* Check whether the writer was restarted or closed and, if so, re-attach to the new generation
  * (FOVEA_E_WRITER_RESTARTED) or report FOVEA_OK if nothing changed. The read calls do this by
@@ -143,15 +157,15 @@ typedef struct fovea_frame_latency fovea_frame_latency;
 /* The render hops, in a sample's order; the first four continue the daemon's three device hops,
  * the last three are the gaze's age at points of the frame. Names: fovea_render_hop_name(). */
 typedef enum fovea_render_hop {
-    FOVEA_HOP_PUBLISH_TO_READ = 0,         /* "publish_to_read": ring publish -> host read it */
-    FOVEA_HOP_READ_TO_FRAME_BEGIN = 1,     /* "read_to_frame_begin": that read -> the frame using
-                                              the record begins */
-    FOVEA_HOP_FRAME_BEGIN_TO_SUBMIT = 2,   /* "frame_begin_to_submit": -> command buffer submitted */
-    FOVEA_HOP_SUBMIT_TO_PRESENT = 3,       /* "submit_to_present": -> presented (host-reported) */
-    FOVEA_HOP_CAPTURE_TO_FRAME_BEGIN = 4,  /* "capture_to_frame_begin": the gaze's age at frame
-                                              begin (device capture -> begin); the stale test */
-    FOVEA_HOP_PUBLISH_TO_FRAME_BEGIN = 5,  /* "publish_to_frame_begin" */
-    FOVEA_HOP_CAPTURE_TO_PRESENT = 6,      /* "capture_to_present": eye to photon, where known */
+    FOVEA_HOP_PUBLISH_TO_READ = 0,        /* "publish_to_read": ring publish -> host read it */
+    FOVEA_HOP_READ_TO_FRAME_BEGIN = 1,    /* "read_to_frame_begin": that read -> the frame using
+                                             the record begins */
+    FOVEA_HOP_FRAME_BEGIN_TO_SUBMIT = 2,  /* "frame_begin_to_submit": -> command buffer submitted */
+    FOVEA_HOP_SUBMIT_TO_PRESENT = 3,      /* "submit_to_present": -> presented (host-reported) */
+    FOVEA_HOP_CAPTURE_TO_FRAME_BEGIN = 4, /* "capture_to_frame_begin": the gaze's age at frame
+                                             begin (device capture -> begin); the stale test */
+    FOVEA_HOP_PUBLISH_TO_FRAME_BEGIN = 5, /* "publish_to_frame_begin" */
+    FOVEA_HOP_CAPTURE_TO_PRESENT = 6,     /* "capture_to_present": eye to photon, where known */
     FOVEA_RENDER_HOP_COUNT = 7
 } fovea_render_hop;
 
@@ -172,11 +186,11 @@ typedef struct fovea_hop_stats {
 } fovea_hop_stats;
 
 typedef struct fovea_frame_counters {
-    uint64_t frames;               /* fovea_frame_begin calls */
-    uint64_t stale_frames;         /* of which the gaze was older than the threshold, or absent */
-    uint64_t frames_without_gaze;  /* of which no gaze record was given (nothing published yet) */
-    uint64_t submitted;            /* fovea_frame_submitted calls that matched an open frame */
-    uint64_t presented;            /* fovea_frame_presented calls that matched a submitted frame */
+    uint64_t frames;              /* fovea_frame_begin calls */
+    uint64_t stale_frames;        /* of which the gaze was older than the threshold, or absent */
+    uint64_t frames_without_gaze; /* of which no gaze record was given (nothing published yet) */
+    uint64_t submitted;           /* fovea_frame_submitted calls that matched an open frame */
+    uint64_t presented;           /* fovea_frame_presented calls that matched a submitted frame */
     int64_t stale_threshold_ns;
 } fovea_frame_counters;
 
@@ -189,7 +203,8 @@ FOVEA_API int fovea_frame_latency_create(fovea_frame_latency** out);
 /* Free; sets *frame_latency to NULL. Safe on NULL. */
 FOVEA_API void fovea_frame_latency_destroy(fovea_frame_latency** frame_latency);
 /* Frames whose gaze is older than threshold_ns (> 0) at frame begin count as stale. */
-FOVEA_API int fovea_frame_latency_set_stale_threshold(fovea_frame_latency* fl, int64_t threshold_ns);
+FOVEA_API int fovea_frame_latency_set_stale_threshold(fovea_frame_latency* fl,
+                                                      int64_t threshold_ns);
 /* Zero the histograms and counters (the threshold stays). */
 FOVEA_API void fovea_frame_latency_reset(fovea_frame_latency* fl);
 

@@ -47,6 +47,12 @@ public:
         return i;
     }
     uint64_t head() const { return fovea_client_head(c_); }
+    // The HMD eye geometry the writer maps gaze with; ipd_m == 0 when it has none.
+    fovea_eye_geometry eye_geometry() const {
+        fovea_eye_geometry g{};
+        check(fovea_client_eye_geometry(c_, &g));
+        return g;
+    }
 
     // The newest record, or nullopt before the first publish.
     std::optional<fovea_gaze_record> latest() {
@@ -93,6 +99,9 @@ public:
         return false;
     }
 
+    // fovea_client_set_wait_spin: 0 sleep only (default), < 0 adaptive, > 0 cap in microseconds.
+    void set_wait_spin(int32_t max_spin_us) { fovea_client_set_wait_spin(c_, max_spin_us); }
+
     fovea_client* handle() const { return c_; }
 
 private:
@@ -120,7 +129,9 @@ public:
     FrameLatency& operator=(const FrameLatency&) = delete;
     ~FrameLatency() { fovea_frame_latency_destroy(&f_); }
 
-    void set_stale_threshold_ns(int64_t ns) { check(fovea_frame_latency_set_stale_threshold(f_, ns)); }
+    void set_stale_threshold_ns(int64_t ns) {
+        check(fovea_frame_latency_set_stale_threshold(f_, ns));
+    }
     void reset() { fovea_frame_latency_reset(f_); }
 
     void gaze_read(const fovea_gaze_record& r, int64_t t_ns = 0) {

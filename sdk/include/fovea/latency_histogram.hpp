@@ -88,11 +88,9 @@ public:
         count_.fetch_add(1, std::memory_order_relaxed);
         sum_.fetch_add(v, std::memory_order_relaxed);
         uint64_t cur = min_.load(std::memory_order_relaxed);
-        while (v < cur && !min_.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-        }
+        while (v < cur && !min_.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {}
         cur = max_.load(std::memory_order_relaxed);
-        while (v > cur && !max_.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-        }
+        while (v > cur && !max_.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {}
     }
 
     // Add every sample of `o` (same bucketing, so merging is exact). Writer thread of *this.

@@ -31,6 +31,13 @@ struct fovea_client {
     std::size_t bytes = 0;
     RingView view;
     int64_t next_check_ns = 0;
+    // fovea_client_wait's spin (fovea_client_set_wait_spin): -1 adaptive, 0 never, > 0 cap in us.
+    int32_t spin_cap_us = 0;
+    uint64_t seen_head = 0;          // head when the writer's cadence was last learned
+    int64_t seen_publish_ns = 0;     // t_publish_ns of record seen_head - 1
+    int64_t interval_ns = 0;         // moving average of the writer's inter-publish interval
+    int64_t lateness_ns = 20'000;    // how late a timed futex sleep returns (learned, high side)
+    uint64_t spun_for = UINT64_MAX;  // the cursor whose spin window has been used up
 };
 
 namespace fovea::client_detail {
@@ -115,8 +122,7 @@ int attach(fovea_client* c) {
     if (h->stream_kind != static_cast<uint32_t>(c->kind))
         return reject(FOVEA_E_WRONG_STREAM, "stream kind differs from the one requested");
     // Our shared lock tells the writer a reader is attached (fovead skips work nobody reads).
-    while (flock(fd, LOCK_SH) != 0 && errno == EINTR) {
-    }
+    while (flock(fd, LOCK_SH) != 0 && errno == EINTR) {}
     c->fd = fd;
     c->base = base;
     c->bytes = bytes;
@@ -208,6 +214,47 @@ int read_records(fovea_client* c, fovea_stream_kind kind, uint64_t* cursor, void
     return FOVEA_OK;
 }
 
+// One spin-wait step that lets a sibling hyperthread (or the hypervisor) run.
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    asm volatile("yield");
+#endif
+}
+
+// Learn the writer's cadence from the publish stamps of the records it wrote since last time
+// (word 4 of either record type is t_publish_ns; a racing overwrite only feeds the average one
+// odd value, which the bounds below reject or the average absorbs).
+void learn_cadence(fovea_client* c, uint64_t head) {
+    if (head == 0 || head == c->seen_head) return;
+    const int64_t t =
+        static_cast<int64_t>(__atomic_load_n(c->view.words_of(head - 1) + 4, __ATOMIC_RELAXED));
+    if (c->seen_head != 0 && head > c->seen_head && t > c->seen_publish_ns) {
+        const int64_t d = (t - c->seen_publish_ns) / static_cast<int64_t>(head - c->seen_head);
+        if (d > 0 && d < 1'000'000'000)
+            c->interval_ns = c->interval_ns == 0 ? d : c->interval_ns + (d - c->interval_ns) / 8;
+    }
+    c->seen_head = head;
+    c->seen_publish_ns = t;
+}
+
+// The spin window for the next record: [from, until) around when the writer's cadence says it is
+// due, at most an eighth of the interval (and the caller's cap) long, starting early by what a
+// timed sleep is late. from == until: no spin.
+struct SpinWindow {
+    int64_t from = 0, until = 0;
+};
+
+SpinWindow spin_window(const fovea_client* c) {
+    if (c->spin_cap_us == 0 || c->interval_ns == 0) return {};
+    int64_t width = c->interval_ns / 8;
+    if (c->spin_cap_us > 0) width = std::min<int64_t>(width, int64_t{c->spin_cap_us} * 1000);
+    const int64_t due = c->seen_publish_ns + c->interval_ns;
+    const int64_t lead = std::min(c->lateness_ns + 5'000, width * 3 / 4);
+    return {due - lead, due - lead + width};
+}
+
 }  // namespace
 
 extern "C" {
@@ -232,8 +279,7 @@ const char* fovea_status_string(int status) {
 
 uint32_t fovea_abi_version(void) { return FOVEA_RING_ABI_VERSION; }
 
-int fovea_ring_name(const char* instance, fovea_stream_kind kind, char* out_name,
-                    size_t capacity) {
+int fovea_ring_name(const char* instance, fovea_stream_kind kind, char* out_name, size_t capacity) {
     if (!out_name) return fail(FOVEA_E_INVALID_ARGUMENT, "null out_name");
     if (!instance || !*instance) instance = "default";
     const std::size_t len = std::strlen(instance);
@@ -290,6 +336,12 @@ int fovea_client_info(const fovea_client* c, fovea_ring_info* out) {
     return FOVEA_OK;
 }
 
+int fovea_client_eye_geometry(const fovea_client* c, fovea_eye_geometry* out) {
+    if (!c || !out) return fail(FOVEA_E_INVALID_ARGUMENT, "null argument");
+    std::memcpy(out, &c->view.header->eyes, sizeof *out);
+    return FOVEA_OK;
+}
+
 uint64_t fovea_client_head(const fovea_client* c) { return c ? head_of(c) : 0; }
 
 int fovea_client_latest(fovea_client* c, fovea_gaze_record* out) {
@@ -315,29 +367,66 @@ int fovea_client_check(fovea_client* c) {
     return check_restart(c);
 }
 
+int fovea_client_set_wait_spin(fovea_client* c, int32_t max_spin_us) {
+    if (!c) return fail(FOVEA_E_INVALID_ARGUMENT, "null client");
+    c->spin_cap_us = max_spin_us < 0 ? -1 : max_spin_us;
+    return FOVEA_OK;
+}
+
 int fovea_client_wait(fovea_client* c, uint64_t cursor, int32_t timeout_ms) {
     if (!c) return fail(FOVEA_E_INVALID_ARGUMENT, "null client");
-    const int64_t deadline = timeout_ms < 0 ? INT64_MAX : now_ns() + int64_t{timeout_ms} * 1'000'000;
+    const int64_t deadline =
+        timeout_ms < 0 ? INT64_MAX : now_ns() + int64_t{timeout_ms} * 1'000'000;
     fovea_ring_header* h = c->view.header;
     for (;;) {
         // Read the futex word before the head: a publish in between changes the word, so the
         // FUTEX_WAIT below returns at once instead of sleeping through it.
         const uint32_t word = __atomic_load_n(&h->futex_word, __ATOMIC_ACQUIRE);
-        if (head_of(c) > cursor) return FOVEA_OK;
-        const int64_t now = now_ns();
+        const uint64_t head = head_of(c);
+        learn_cadence(c, head);
+        if (head > cursor) return FOVEA_OK;
+        int64_t now = now_ns();
         if (now >= deadline) {
             const int r = check_restart(c);
-            return r != FOVEA_OK ? r : fail(FOVEA_E_TIMEOUT, "no new sample within %d ms", timeout_ms);
+            return r != FOVEA_OK ? r
+                                 : fail(FOVEA_E_TIMEOUT, "no new sample within %d ms", timeout_ms);
         }
         if (__atomic_load_n(&h->state, __ATOMIC_ACQUIRE) == FOVEA_RING_CLOSED) {
             const int r = check_restart(c);
             if (r != FOVEA_OK) return r;
         }
         // Wake at least every 100 ms to notice a restarted writer, which wakes no one here.
-        const int64_t sleep_ns = std::min<int64_t>(deadline - now, 100'000'000);
-        timespec ts{static_cast<time_t>(sleep_ns / 1'000'000'000), static_cast<long>(sleep_ns % 1'000'000'000)};
-        syscall(SYS_futex, &h->futex_word, FUTEX_WAIT, word, &ts, nullptr, 0);
-        if (now_ns() - now >= 99'000'000) {
+        int64_t sleep_ns = std::min<int64_t>(deadline - now, 100'000'000);
+        // Waiting for the very next record of a periodic writer: sleep until its spin window,
+        // then spin through the window (once per record) instead of paying the wake-up latency.
+        const SpinWindow win =
+            cursor == head && c->spun_for != cursor ? spin_window(c) : SpinWindow{};
+        bool timed_to_window = false;
+        if (win.until > now) {
+            if (now >= win.from) {
+                const int64_t until = std::min(win.until, deadline);
+                while (now < until) {
+                    for (int i = 0; i < 4; ++i) cpu_relax();
+                    if (head_of(c) > cursor) return FOVEA_OK;
+                    now = now_ns();
+                }
+                c->spun_for = cursor;  // missed: sleep on the futex until the record comes
+                continue;
+            }
+            timed_to_window = win.from - now <= sleep_ns;
+            sleep_ns = std::min(sleep_ns, win.from - now);
+        }
+        timespec ts{static_cast<time_t>(sleep_ns / 1'000'000'000),
+                    static_cast<long>(sleep_ns % 1'000'000'000)};
+        const long slept = syscall(SYS_futex, &h->futex_word, FUTEX_WAIT, word, &ts, nullptr, 0);
+        const int64_t woke = now_ns();
+        if (timed_to_window && slept != 0 && errno == ETIMEDOUT) {
+            // Learn how late a timed sleep returns, rising fast and falling slowly.
+            const int64_t late = woke - win.from;
+            c->lateness_ns +=
+                late > c->lateness_ns ? (late - c->lateness_ns) / 4 : (late - c->lateness_ns) / 32;
+        }
+        if (woke - now >= 99'000'000) {
             const int r = maybe_check_restart(c);
             if (r != FOVEA_OK) return r;
         }

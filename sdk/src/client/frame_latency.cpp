@@ -31,8 +31,8 @@ namespace {
 constexpr std::size_t kRequestCapacity = 60 * 1024;
 
 constexpr std::array<const char*, FOVEA_RENDER_HOP_COUNT> kHopNames = {
-    "publish_to_read",        "read_to_frame_begin",    "frame_begin_to_submit",
-    "submit_to_present",      "capture_to_frame_begin", "publish_to_frame_begin",
+    "publish_to_read",   "read_to_frame_begin",    "frame_begin_to_submit",
+    "submit_to_present", "capture_to_frame_begin", "publish_to_frame_begin",
     "capture_to_present"};
 
 int64_t now_ns() {
@@ -147,8 +147,8 @@ bool write_request(const fovea_frame_latency* fl, Writer& w, int coarsen_bits) {
         write_histogram(w, fl->hops[i], coarsen_bits);
         first = false;
     }
-    w.put("},\"frames\":%" PRIu64 ",\"stale_frames\":%" PRIu64
-          ",\"frames_without_gaze\":%" PRIu64 ",\"stale_threshold_ns\":%" PRId64 "}\n",
+    w.put("},\"frames\":%" PRIu64 ",\"stale_frames\":%" PRIu64 ",\"frames_without_gaze\":%" PRIu64
+          ",\"stale_threshold_ns\":%" PRId64 "}\n",
           fl->frames.load(std::memory_order_relaxed),
           fl->stale_frames.load(std::memory_order_relaxed),
           fl->frames_without_gaze.load(std::memory_order_relaxed),
@@ -265,8 +265,8 @@ void fovea_frame_latency_reset(fovea_frame_latency* fl) {
     for (auto& h : fl->hops) h.reset();
     fl->have_read = false;
     fl->stage = Stage::kNone;
-    for (auto* c : {&fl->frames, &fl->stale_frames, &fl->frames_without_gaze, &fl->submitted,
-                    &fl->presented})
+    for (auto* c :
+         {&fl->frames, &fl->stale_frames, &fl->frames_without_gaze, &fl->submitted, &fl->presented})
         c->store(0, std::memory_order_relaxed);
 }
 
@@ -282,8 +282,8 @@ int fovea_frame_gaze_read(fovea_frame_latency* fl, const fovea_gaze_record* reco
     return FOVEA_OK;
 }
 
-int fovea_frame_begin(fovea_frame_latency* fl, const fovea_gaze_record* record,
-                      int64_t t_begin_ns, int64_t* out_gaze_age_ns) {
+int fovea_frame_begin(fovea_frame_latency* fl, const fovea_gaze_record* record, int64_t t_begin_ns,
+                      int64_t* out_gaze_age_ns) {
     if (!fl) return fail(FOVEA_E_INVALID_ARGUMENT, "null frame latency");
     if (!resolve_time(t_begin_ns)) return fail(FOVEA_E_INVALID_ARGUMENT, "negative time");
     bump(fl->frames);

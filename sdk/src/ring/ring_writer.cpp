@@ -84,6 +84,7 @@ Result<RingWriter> RingWriter::create(const WriterOptions& options) {
     copy_name(h->stream_name, sizeof h->stream_name,
               options.kind == FOVEA_STREAM_HEAD ? "head" : "gaze");
     copy_name(h->device_name, sizeof h->device_name, options.device_name);
+    h->eyes = options.eyes;
     w.view_ = make_view(base);
     __atomic_store_n(&h->state, uint32_t{FOVEA_RING_LIVE}, __ATOMIC_RELEASE);
     return w;

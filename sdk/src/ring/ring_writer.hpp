@@ -19,7 +19,8 @@ struct WriterOptions {
     uint32_t slot_count = FOVEA_RING_DEFAULT_SLOTS;  // rounded up to a power of two
     uint32_t nominal_rate_hz = 0;
     std::string device_name;
-    mode_t mode = 0640;  // readers only read (DESIGN.md §4)
+    fovea_eye_geometry eyes{};  // the HMD profile's eye views; zero for a monitor
+    mode_t mode = 0640;         // readers only read (DESIGN.md §4)
 };
 
 class RingWriter {

@@ -44,12 +44,14 @@ inline constexpr uint64_t seq_done(uint64_t index) { return 2 * index + 2; }
 inline void store_words(uint64_t* dst, const void* record) {
     uint64_t tmp[kRecordWords];
     std::memcpy(tmp, record, sizeof tmp);
-    for (std::size_t i = 0; i < kRecordWords; ++i) __atomic_store_n(dst + i, tmp[i], __ATOMIC_RELAXED);
+    for (std::size_t i = 0; i < kRecordWords; ++i)
+        __atomic_store_n(dst + i, tmp[i], __ATOMIC_RELAXED);
 }
 
 inline void load_words(const uint64_t* src, void* record) {
     uint64_t tmp[kRecordWords];
-    for (std::size_t i = 0; i < kRecordWords; ++i) tmp[i] = __atomic_load_n(src + i, __ATOMIC_RELAXED);
+    for (std::size_t i = 0; i < kRecordWords; ++i)
+        tmp[i] = __atomic_load_n(src + i, __ATOMIC_RELAXED);
     std::memcpy(record, tmp, sizeof tmp);
 }
 

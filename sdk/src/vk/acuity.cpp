@@ -20,8 +20,8 @@ inline vec2 operator*(vec2 a, float s) { return {a.x * s, a.y * s}; }
 inline vec2 operator/(vec2 a, vec2 b) { return {a.x / b.x, a.y / b.y}; }
 inline float abs(float v) { return std::fabs(v); }
 inline float sqrt(float v) { return std::sqrt(v); }
-inline float max(float a, float b) { return a > b ? a : b; }   // GLSL max: NaN handling as the
-inline float min(float a, float b) { return a < b ? a : b; }   // shaders see it on lavapipe
+inline float max(float a, float b) { return a > b ? a : b; }  // GLSL max: NaN handling as the
+inline float min(float a, float b) { return a < b ? a : b; }  // shaders see it on lavapipe
 inline float clamp(float v, float lo, float hi) { return min(max(v, lo), hi); }
 inline vec2 clamp(vec2 v, vec2 lo, vec2 hi) {
     return {clamp(v.x, lo.x, hi.x), clamp(v.y, lo.y, hi.y)};
@@ -129,6 +129,24 @@ ResolvedGaze resolve_gaze(const GazeState& gaze, const EyeDisplay& d, const Acui
     return out;
 }
 
+ResolvedGaze GazeResolver::resolve(const GazeState& gaze, double time_s) {
+    const bool finite_landing = gaze.in_saccade && gaze.landing_valid &&
+                                std::isfinite(gaze.landing_x) && std::isfinite(gaze.landing_y);
+    if ((std::isfinite(gaze.x) && std::isfinite(gaze.y)) || finite_landing) {
+        has_valid_ = true;
+        last_valid_ = gaze;
+        last_valid_time_s_ = time_s;
+        return resolve_gaze(gaze, display_, acuity_);
+    }
+    if (!has_valid_) return resolve_gaze(gaze, display_, acuity_);
+    GazeState held = last_valid_;
+    const double since = std::isfinite(time_s) ? time_s - last_valid_time_s_ : 0.0;
+    held.age_s += static_cast<float>(std::max(since, 0.0));
+    ResolvedGaze out = resolve_gaze(held, display_, acuity_);
+    out.held = true;
+    return out;
+}
+
 float eccentricity_deg(const EyeDisplay& d, float px, float py, float gx, float gy) {
     return glsl::fovea_eccentricity_deg(to_glsl(d), glsl::vec2(px, py), glsl::vec2(gx, gy));
 }
@@ -137,9 +155,12 @@ float pixel_size_deg(const EyeDisplay& d, float px, float py) {
     return glsl::fovea_pixel_size_deg(to_glsl(d), glsl::vec2(px, py));
 }
 
-float mar_deg(const AcuityParams& a, float e) {
-    return glsl::fovea_mar_deg(to_glsl(a, 0.f), e);
+std::array<float, 2> pixel_size_deg_axes(const EyeDisplay& d, float px, float py) {
+    const glsl::vec2 a = glsl::fovea_pixel_size_deg_axes(to_glsl(d), glsl::vec2(px, py));
+    return {a.x, a.y};
 }
+
+float mar_deg(const AcuityParams& a, float e) { return glsl::fovea_mar_deg(to_glsl(a, 0.f), e); }
 
 float rate_at(const EyeDisplay& d, const AcuityParams& a, const ResolvedGaze& g, float px,
               float py) {

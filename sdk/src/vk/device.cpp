@@ -2,10 +2,12 @@
 
 #include <atomic>
 #include <cassert>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 
 #include "fovea/vk/check.hpp"
+#include "gpu.hpp"
 
 namespace fovea::vk {
 namespace {
@@ -16,39 +18,61 @@ struct DebugSink {
     LogFn log;
 };
 
+void VKAPI_CALL destroy_messenger(VkInstance instance, VkDebugUtilsMessengerEXT messenger,
+                                  const VkAllocationCallbacks* allocator) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(instance, messenger, allocator);
+}
+using UniqueMessenger = Unique<VkDebugUtilsMessengerEXT, destroy_messenger, VkInstance>;
+
 }  // namespace
 
 struct Device::Impl {
-    bool owns = false;
+    // Owned objects in creation order, so they are destroyed in reverse: the command pool and
+    // fence, the device, the messenger (which reports the device's leaks), the instance. A wrapped
+    // host device owns only the pool and the fence.
+    DebugSink sink;
+    UniqueInstance owned_instance;
+    UniqueMessenger messenger;
+    UniqueDevice owned_device;
+    UniqueCommandPool pool;
+    UniqueFence fence;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;  // submit_and_wait's, freed with pool
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physical = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
     uint32_t family = 0;
-    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties props{};
     VkPhysicalDeviceMemoryProperties mem{};
     VrsSupport vrs;
+    DensityMapSupport fdm;
     LogFn log;
-    DebugSink sink;
-    VkCommandPool pool = VK_NULL_HANDLE;
-    VkFence fence = VK_NULL_HANDLE;
-    mutable std::mutex queue_mutex;
+    mutable std::mutex submit_mutex;  // the command buffer and fence of submit_and_wait
+    QueueLock queue_lock;
+
+    // Scope of one use of the queue under the host's lock.
+    struct QueueGuard {
+        const QueueLock& l;
+        explicit QueueGuard(const QueueLock& lock) : l(lock) {
+            if (l.lock) l.lock();
+        }
+        ~QueueGuard() {
+            if (l.unlock) l.unlock();
+        }
+        QueueGuard(const QueueGuard&) = delete;
+        QueueGuard& operator=(const QueueGuard&) = delete;
+    };
 
     ~Impl() {
-        if (device) {
+        if (!device) return;
+        if (owned_device) {
             vkDeviceWaitIdle(device);
-            if (fence) vkDestroyFence(device, fence, nullptr);
-            if (pool) vkDestroyCommandPool(device, pool, nullptr);
+        } else {  // the host's device: wait for our queue only, under its lock
+            QueueGuard guard(queue_lock);
+            vkQueueWaitIdle(queue);
         }
-        if (!owns) return;
-        if (device) vkDestroyDevice(device, nullptr);
-        if (messenger) {
-            auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-                vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
-            if (destroy) destroy(instance, messenger, nullptr);
-        }
-        if (instance) vkDestroyInstance(instance, nullptr);
     }
 
     void finish_setup() {
@@ -57,35 +81,72 @@ struct Device::Impl {
         VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
         pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
         pci.queueFamilyIndex = family;
-        VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &pool));
+        pool = create_handle<UniqueCommandPool>(device, vkCreateCommandPool, pci);
         VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        VK_CHECK(vkCreateFence(device, &fci, nullptr, &fence));
+        fence = create_handle<UniqueFence>(device, vkCreateFence, fci);
+        VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        ai.commandPool = pool.get();
+        ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        ai.commandBufferCount = 1;
+        VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
     }
 
-    void query_vrs(bool enabled_on_device) {
+    bool has_extension(const char* name) const {
         uint32_t n = 0;
         vkEnumerateDeviceExtensionProperties(physical, nullptr, &n, nullptr);
         std::vector<VkExtensionProperties> exts(n);
         vkEnumerateDeviceExtensionProperties(physical, nullptr, &n, exts.data());
-        bool has = false;
         for (const auto& e : exts)
-            if (std::strcmp(e.extensionName, VK_KHR_FRAGMENT_SHADING_RATE_EXTENSION_NAME) == 0)
-                has = true;
-        if (!has) {
+            if (std::strcmp(e.extensionName, name) == 0) return true;
+        return false;
+    }
+
+    // Fills an extension's properties and features structs (sType set by the caller).
+    template <class Properties, class Features>
+    void query_extension(Properties& properties, Features& features) const {
+        VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        p2.pNext = &properties;
+        vkGetPhysicalDeviceProperties2(physical, &p2);
+        VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        f2.pNext = &features;
+        vkGetPhysicalDeviceFeatures2(physical, &f2);
+    }
+
+    void query_fdm(bool enabled_on_device) {
+        if (!has_extension(VK_EXT_FRAGMENT_DENSITY_MAP_EXTENSION_NAME)) {
+            fdm.reason = std::string("device '") + props.deviceName + "' lacks " +
+                         VK_EXT_FRAGMENT_DENSITY_MAP_EXTENSION_NAME;
+            return;
+        }
+        VkPhysicalDeviceFragmentDensityMapPropertiesEXT fp{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FRAGMENT_DENSITY_MAP_PROPERTIES_EXT};
+        VkPhysicalDeviceFragmentDensityMapFeaturesEXT ff{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FRAGMENT_DENSITY_MAP_FEATURES_EXT};
+        query_extension(fp, ff);
+        if (!ff.fragmentDensityMap) {
+            fdm.reason = "fragmentDensityMap feature missing";
+            return;
+        }
+        fdm.min_texel = fp.minFragmentDensityTexelSize.width;
+        fdm.max_texel = fp.maxFragmentDensityTexelSize.width;
+        if (!enabled_on_device) {
+            fdm.reason = "VK_EXT_fragment_density_map not enabled on the device";
+            return;
+        }
+        fdm.supported = true;
+    }
+
+    void query_vrs(bool enabled_on_device) {
+        if (!has_extension(VK_KHR_FRAGMENT_SHADING_RATE_EXTENSION_NAME)) {
             vrs.reason = std::string("device '") + props.deviceName + "' lacks " +
                          VK_KHR_FRAGMENT_SHADING_RATE_EXTENSION_NAME;
             return;
         }
         VkPhysicalDeviceFragmentShadingRatePropertiesKHR fsr{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FRAGMENT_SHADING_RATE_PROPERTIES_KHR};
-        VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-        p2.pNext = &fsr;
-        vkGetPhysicalDeviceProperties2(physical, &p2);
         VkPhysicalDeviceFragmentShadingRateFeaturesKHR ff{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FRAGMENT_SHADING_RATE_FEATURES_KHR};
-        VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-        f2.pNext = &ff;
-        vkGetPhysicalDeviceFeatures2(physical, &f2);
+        query_extension(fsr, ff);
         if (!ff.attachmentFragmentShadingRate) {
             vrs.reason = "attachmentFragmentShadingRate feature missing";
             return;
@@ -116,6 +177,63 @@ VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBit
     return VK_FALSE;
 }
 
+std::string version_string(uint32_t v) {
+    return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v));
+}
+
+// The features requirements() may ask for, by name for the error message.
+struct NamedFeature {
+    const char* name;
+    VkBool32 VkPhysicalDeviceFeatures::*member;
+};
+constexpr NamedFeature kCheckedFeatures[] = {
+    {"shaderStorageImageExtendedFormats",
+     &VkPhysicalDeviceFeatures::shaderStorageImageExtendedFormats},
+};
+
+// Every unmet requirement of `ext`, one per line; empty when the device qualifies.
+std::string unmet_requirements(const ExternalDevice& ext) {
+    const DeviceRequirements req = Device::requirements();
+    std::string missing;
+    const auto add = [&](const std::string& what) { missing += "\n  - " + what; };
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(ext.physical, &props);
+    if (ext.api_version < req.api_version)
+        add("ExternalDevice::api_version is " + version_string(ext.api_version) + ", need " +
+            version_string(req.api_version) + " (VkApplicationInfo::apiVersion of the instance)");
+    if (props.apiVersion < req.api_version)
+        add(std::string("device '") + props.deviceName + "' supports Vulkan " +
+            version_string(props.apiVersion) + ", need " + version_string(req.api_version));
+    uint32_t qn = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ext.physical, &qn, nullptr);
+    std::vector<VkQueueFamilyProperties> families(qn);
+    vkGetPhysicalDeviceQueueFamilyProperties(ext.physical, &qn, families.data());
+    if (ext.queue_family >= qn)
+        add("queue_family " + std::to_string(ext.queue_family) + " does not exist (" +
+            std::to_string(qn) + " families)");
+    else if ((families[ext.queue_family].queueFlags & req.queue_flags) != req.queue_flags)
+        add("queue family " + std::to_string(ext.queue_family) + " has no compute capability");
+    for (const NamedFeature& f : kCheckedFeatures)
+        if (req.features.*f.member && !(ext.enabled_features.*f.member))
+            add(std::string("feature ") + f.name +
+                " not enabled (ExternalDevice::enabled_features)");
+    for (const DeviceRequirements::Format& f : req.formats) {
+        VkFormatProperties fp;
+        vkGetPhysicalDeviceFormatProperties(ext.physical, f.format, &fp);
+        const VkFormatFeatureFlags lacking = f.features & ~fp.optimalTilingFeatures;
+        if (lacking == 0) continue;
+        char what[96];
+        std::snprintf(what, sizeof(what), "format %d lacks optimal-tiling features 0x%x",
+                      static_cast<int>(f.format), static_cast<unsigned>(lacking));
+        add(what);
+    }
+    if (props.limits.maxComputeWorkGroupInvocations < req.min_compute_workgroup_invocations)
+        add("maxComputeWorkGroupInvocations " +
+            std::to_string(props.limits.maxComputeWorkGroupInvocations) + " < " +
+            std::to_string(req.min_compute_workgroup_invocations));
+    return missing;
+}
+
 bool has_layer(const char* name) {
     uint32_t n = 0;
     vkEnumerateInstanceLayerProperties(&n, nullptr);
@@ -136,16 +254,19 @@ Device::~Device() = default;
 Result<Device> Device::create_headless(const DeviceOptions& options) {
     try {
         auto impl = std::make_unique<Impl>();
-        impl->owns = true;
         impl->log = options.log;
         impl->sink.log = options.log;
         VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
         app.pApplicationName = "fovea";
         app.apiVersion = VK_API_VERSION_1_2;
         std::vector<const char*> layers, exts;
-        const bool validation = options.validation && has_layer("VK_LAYER_KHRONOS_validation");
-        if (options.validation && !validation && options.log)
-            options.log(LogLevel::kWarning, "VK_LAYER_KHRONOS_validation not installed");
+        // Asked-for validation that silently is not there would make "zero validation errors" pass.
+        const bool validation = options.validation;
+        if (validation && !has_layer("VK_LAYER_KHRONOS_validation"))
+            return make_error(
+                "validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                "(Debian: vulkan-validationlayers)",
+                static_cast<int>(VK_ERROR_LAYER_NOT_PRESENT));
         if (validation) {
             layers.push_back("VK_LAYER_KHRONOS_validation");
             exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
@@ -156,9 +277,12 @@ Result<Device> Device::create_headless(const DeviceOptions& options) {
         ici.ppEnabledLayerNames = layers.data();
         ici.enabledExtensionCount = static_cast<uint32_t>(exts.size());
         ici.ppEnabledExtensionNames = exts.data();
-        VkResult r = vkCreateInstance(&ici, nullptr, &impl->instance);
+        VkInstance instance = VK_NULL_HANDLE;
+        VkResult r = vkCreateInstance(&ici, nullptr, &instance);
         if (r != VK_SUCCESS)
             return make_error(std::string("no Vulkan instance: ") + result_name(r));
+        impl->owned_instance = UniqueInstance(instance);
+        impl->instance = instance;
         if (validation) {
             VkDebugUtilsMessengerCreateInfoEXT mci{
                 VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
@@ -170,7 +294,13 @@ Result<Device> Device::create_headless(const DeviceOptions& options) {
             mci.pUserData = &impl->sink;
             auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
                 vkGetInstanceProcAddr(impl->instance, "vkCreateDebugUtilsMessengerEXT"));
-            if (create) VK_CHECK(create(impl->instance, &mci, nullptr, &impl->messenger));
+            if (!create)
+                return make_error(
+                    "validation requested but vkCreateDebugUtilsMessengerEXT is missing",
+                    static_cast<int>(VK_ERROR_EXTENSION_NOT_PRESENT));
+            VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+            VK_CHECK(create(impl->instance, &mci, nullptr, &messenger));
+            impl->messenger = UniqueMessenger(impl->instance, messenger);
         }
         uint32_t n = 0;
         vkEnumeratePhysicalDevices(impl->instance, &n, nullptr);
@@ -188,7 +318,10 @@ Result<Device> Device::create_headless(const DeviceOptions& options) {
             vkGetPhysicalDeviceQueueFamilyProperties(devs[i], &qn, q.data());
             int fam = -1;
             for (uint32_t k = 0; k < qn; ++k)
-                if (q[k].queueFlags & VK_QUEUE_COMPUTE_BIT) { fam = static_cast<int>(k); break; }
+                if (q[k].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+                    fam = static_cast<int>(k);
+                    break;
+                }
             if (fam < 0) continue;
             const bool cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
             int score = cpu == options.prefer_software ? 2 : 1;
@@ -216,36 +349,64 @@ Result<Device> Device::create_headless(const DeviceOptions& options) {
         dci.queueCreateInfoCount = 1;
         dci.pQueueCreateInfos = &qci;
         dci.pEnabledFeatures = &features;
-        r = vkCreateDevice(impl->physical, &dci, nullptr, &impl->device);
+        VkDevice device = VK_NULL_HANDLE;
+        r = vkCreateDevice(impl->physical, &dci, nullptr, &device);
         if (r != VK_SUCCESS) return make_error(std::string("vkCreateDevice: ") + result_name(r));
+        impl->owned_device = UniqueDevice(device);
+        impl->device = device;
         vkGetDeviceQueue(impl->device, best_family, 0, &impl->queue);
+        ExternalDevice self{impl->instance, impl->physical, impl->device, impl->queue,
+                            best_family,    app.apiVersion, features};
+        if (const std::string missing = unmet_requirements(self); !missing.empty())
+            return make_error("the Vulkan device does not meet Device::requirements():" + missing);
         impl->finish_setup();
         // A headless compute device has no rasterizer use for VRS; report what the GPU offers.
         impl->query_vrs(false);
+        impl->query_fdm(false);
         return Device(std::move(impl));
-    } catch (const VkError& e) {
-        return make_error(e.what(), static_cast<int>(e.result()));
-    }
+    } catch (const VkError& e) { return make_error(e.what(), static_cast<int>(e.result())); }
+}
+
+DeviceRequirements Device::requirements() {
+    DeviceRequirements r;
+    r.features.shaderStorageImageExtendedFormats = VK_TRUE;
+    constexpr VkFormatFeatureFlags kStorage = VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    constexpr VkFormatFeatureFlags kSampled =
+        VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    r.formats = {
+        {VK_FORMAT_R16G16B16A16_SFLOAT, kStorage | kSampled},
+        {VK_FORMAT_R32G32B32A32_SFLOAT, kStorage},
+        {VK_FORMAT_R8G8B8A8_UNORM, kStorage},
+        {VK_FORMAT_R32_SFLOAT, kStorage},
+        {VK_FORMAT_R16_SFLOAT, kStorage},
+        {VK_FORMAT_R16G16_SFLOAT, kStorage},
+        {VK_FORMAT_R8_UINT, kStorage},
+    };
+    return r;
 }
 
 Result<Device> Device::wrap(const ExternalDevice& ext, LogFn log) {
     if (!ext.instance || !ext.physical || !ext.device || !ext.queue)
         return make_error("ExternalDevice: instance, physical, device and queue are required");
+    if (const std::string missing = unmet_requirements(ext); !missing.empty())
+        return make_error(
+            "Device::wrap: the host's device does not meet "
+            "Device::requirements():" +
+            missing);
     try {
         auto impl = std::make_unique<Impl>();
-        impl->owns = false;
         impl->log = std::move(log);
         impl->instance = ext.instance;
         impl->physical = ext.physical;
         impl->device = ext.device;
         impl->queue = ext.queue;
         impl->family = ext.queue_family;
+        impl->queue_lock = ext.queue_lock;
         impl->finish_setup();
         impl->query_vrs(ext.fragment_shading_rate_enabled);
+        impl->query_fdm(ext.fragment_density_map_enabled);
         return Device(std::move(impl));
-    } catch (const VkError& e) {
-        return make_error(e.what(), static_cast<int>(e.result()));
-    }
+    } catch (const VkError& e) { return make_error(e.what(), static_cast<int>(e.result())); }
 }
 
 VkInstance Device::instance() const { return impl_->instance; }
@@ -255,11 +416,11 @@ VkQueue Device::queue() const { return impl_->queue; }
 uint32_t Device::queue_family() const { return impl_->family; }
 const VkPhysicalDeviceProperties& Device::properties() const { return impl_->props; }
 std::string Device::name() const { return impl_->props.deviceName; }
-bool Device::is_software() const {
-    return impl_->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-}
+bool Device::is_software() const { return impl_->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 VrsSupport Device::vrs_support() const { return impl_->vrs; }
+DensityMapSupport Device::density_map_support() const { return impl_->fdm; }
 uint64_t Device::validation_errors() const { return impl_->sink.errors.load(); }
+bool Device::validation_enabled() const { return static_cast<bool>(impl_->messenger); }
 const LogFn& Device::log() const { return impl_->log; }
 void Device::log(LogLevel level, const std::string& message) const {
     if (impl_->log) impl_->log(level, message);
@@ -274,33 +435,40 @@ uint32_t Device::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required)
     return 0;
 }
 
+void Device::wait_idle() const {
+    Impl::QueueGuard guard(impl_->queue_lock);
+    VK_CHECK(vkQueueWaitIdle(impl_->queue));
+}
+
 void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const {
-    std::lock_guard<std::mutex> lock(impl_->queue_mutex);
-    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    ai.commandPool = impl_->pool;
-    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    ai.commandBufferCount = 1;
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateCommandBuffers(impl_->device, &ai, &cmd));
+    std::lock_guard<std::mutex> lock(impl_->submit_mutex);
+    const VkCommandBuffer cmd = impl_->cmd;
+    const VkFence fence = impl_->fence.get();
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
-    record(cmd);
-    VK_CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cmd;
-    VK_CHECK(vkResetFences(impl_->device, 1, &impl_->fence));
-    VK_CHECK(vkQueueSubmit(impl_->queue, 1, &si, impl_->fence));
-    VK_CHECK(vkWaitForFences(impl_->device, 1, &impl_->fence, VK_TRUE, UINT64_MAX));
-    vkFreeCommandBuffers(impl_->device, impl_->pool, 1, &cmd);
+    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));  // resets it (the pool allows reset)
+    try {
+        record(cmd);
+        VK_CHECK(vkEndCommandBuffer(cmd));
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cmd;
+        VK_CHECK(vkResetFences(impl_->device, 1, &fence));
+        Impl::QueueGuard guard(impl_->queue_lock);  // only around the submission
+        VK_CHECK(vkQueueSubmit(impl_->queue, 1, &si, fence));
+    } catch (...) {
+        vkResetCommandBuffer(cmd, 0);  // half-recorded or never submitted: back to initial
+        throw;
+    }
+    VK_CHECK(vkWaitForFences(impl_->device, 1, &fence, VK_TRUE, UINT64_MAX));
 }
 
 uint32_t format_bytes(VkFormat f) {
     switch (f) {
         case VK_FORMAT_R8_UINT:
         case VK_FORMAT_R8_UNORM: return 1;
-        case VK_FORMAT_R16_SFLOAT: return 2;
+        case VK_FORMAT_R16_SFLOAT:
+        case VK_FORMAT_R8G8_UNORM: return 2;
         case VK_FORMAT_R8G8B8A8_UNORM:
         case VK_FORMAT_R8G8B8A8_SRGB:
         case VK_FORMAT_R32_SFLOAT:
@@ -308,28 +476,16 @@ uint32_t format_bytes(VkFormat f) {
         case VK_FORMAT_R16G16_SFLOAT: return 4;
         case VK_FORMAT_R16G16B16A16_SFLOAT:
         case VK_FORMAT_R32G32_SFLOAT: return 8;
-        case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
+        case VK_FORMAT_R32G32B32A32_SFLOAT:
+        case VK_FORMAT_R32G32B32A32_UINT: return 16;
         default: assert(!"format_bytes: unexpected format"); return 0;
     }
 }
 
 std::vector<uint8_t> Device::read_image(const ImageRef& image) const {
-    const VkDeviceSize bytes = static_cast<VkDeviceSize>(image.extent.width) *
-                               image.extent.height * format_bytes(image.format);
-    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bci.size = bytes;
-    bci.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    VkBuffer buf = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateBuffer(impl_->device, &bci, nullptr, &buf));
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(impl_->device, buf, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    VkDeviceMemory mem = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateMemory(impl_->device, &mai, nullptr, &mem));
-    VK_CHECK(vkBindBufferMemory(impl_->device, buf, mem, 0));
+    const VkDeviceSize bytes = static_cast<VkDeviceSize>(image.extent.width) * image.extent.height *
+                               format_bytes(image.format);
+    const Buffer staging(*this, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, /*host_visible=*/true);
     submit_and_wait([&](VkCommandBuffer cmd) {
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
@@ -339,20 +495,16 @@ std::vector<uint8_t> Device::read_image(const ImageRef& image) const {
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {image.extent.width, image.extent.height, 1};
-        vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_GENERAL, buf, 1, &region);
+        vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_GENERAL, staging.get(), 1,
+                               &region);
         VkMemoryBarrier hb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         hb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         hb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
-                             1, &hb, 0, nullptr, 0, nullptr);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                             &hb, 0, nullptr, 0, nullptr);
     });
     std::vector<uint8_t> out(bytes);
-    void* p = nullptr;
-    VK_CHECK(vkMapMemory(impl_->device, mem, 0, bytes, 0, &p));
-    std::memcpy(out.data(), p, bytes);
-    vkUnmapMemory(impl_->device, mem);
-    vkDestroyBuffer(impl_->device, buf, nullptr);
-    vkFreeMemory(impl_->device, mem, nullptr);
+    std::memcpy(out.data(), staging.data(), bytes);
     return out;
 }
 

@@ -12,9 +12,9 @@ struct FrameUniforms {
     float inv_extent[2];
     float gaze_px[2];
     float jitter_px[2];
-    float display_size_px[2];   // FoveaDisplay
+    float display_size_px[2];  // FoveaDisplay
     float display_half_tan[2];
-    float mar_slope;            // FoveaAcuity
+    float mar_slope;  // FoveaAcuity
     float mar_omega0;
     float foveal_radius_deg;
     float transition_deg;
@@ -22,8 +22,8 @@ struct FrameUniforms {
     float max_rate;
     float tile_size;
     float acuity_reserved;
-    float camera_pos[4];        // w = radians per pixel
-    float time[4];              // x seconds, y frame index
+    float camera_pos[4];  // w = radians per pixel
+    float time[4];        // x seconds, y frame index
     float host[64];
 };
 static_assert(offsetof(FrameUniforms, display_size_px) == 32, "std140 layout");

@@ -6,57 +6,44 @@
 
 namespace fovea::vk {
 
-Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage,
-               bool host_visible)
-    : device_(device.device()), size_(size) {
+Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible)
+    : size_(size) {
+    const VkDevice d = device.device();
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bci.size = size;
     bci.usage = usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    VK_CHECK(vkCreateBuffer(device_, &bci, nullptr, &buffer_));
+    buffer_ = create_handle<UniqueBuffer>(d, vkCreateBuffer, bci);
     VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(device_, buffer_, &req);
+    vkGetBufferMemoryRequirements(d, buffer_.get(), &req);
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = device.memory_type(
-        req.memoryTypeBits, host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                               VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                         : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkAllocateMemory(device_, &mai, nullptr, &memory_));
-    VK_CHECK(vkBindBufferMemory(device_, buffer_, memory_, 0));
+        req.memoryTypeBits,
+        host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                     : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    memory_ = create_handle<UniqueDeviceMemory>(d, vkAllocateMemory, mai);
+    VK_CHECK(vkBindBufferMemory(d, buffer_.get(), memory_.get(), 0));
     if (host_visible) {
-        VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+        VK_CHECK(vkMapMemory(d, memory_.get(), 0, VK_WHOLE_SIZE, 0, &mapped_));
         std::memset(mapped_, 0, size);
     }
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
     if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
-        memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+        buffer_ = std::move(o.buffer_);
+        memory_ = std::move(o.memory_);
         size_ = std::exchange(o.size_, 0);
         mapped_ = std::exchange(o.mapped_, nullptr);
     }
     return *this;
 }
 
-void Buffer::reset() {
-    if (!device_) return;
-    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
-    if (memory_) vkFreeMemory(device_, memory_, nullptr);  // unmaps implicitly
-    buffer_ = VK_NULL_HANDLE;
-    memory_ = VK_NULL_HANDLE;
-    mapped_ = nullptr;
-    device_ = VK_NULL_HANDLE;
-}
-
 Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
              uint32_t mip_levels)
-    : device_(device.device()), mips_(mip_levels) {
+    : mips_(mip_levels) {
     assert(extent.width > 0 && extent.height > 0);
-    ref_.format = format;
-    ref_.extent = extent;
+    const VkDevice d = device.device();
     VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ici.imageType = VK_IMAGE_TYPE_2D;
     ici.format = format;
@@ -67,32 +54,28 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
     ici.tiling = VK_IMAGE_TILING_OPTIMAL;
     ici.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(device_, &ici, nullptr, &ref_.image));
+    image_ = create_handle<UniqueImage>(d, vkCreateImage, ici);
     VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(device_, ref_.image, &req);
+    vkGetImageMemoryRequirements(d, image_.get(), &req);
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
     mai.memoryTypeIndex =
         device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkAllocateMemory(device_, &mai, nullptr, &memory_));
-    VK_CHECK(vkBindImageMemory(device_, ref_.image, memory_, 0));
+    memory_ = create_handle<UniqueDeviceMemory>(d, vkAllocateMemory, mai);
+    VK_CHECK(vkBindImageMemory(d, image_.get(), memory_.get(), 0));
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vci.image = ref_.image;
+    vci.image = image_.get();
     vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vci.format = format;
     vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
-    VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &ref_.view));
+    view_ = create_handle<UniqueImageView>(d, vkCreateImageView, vci);
     if (mip_levels > 1) {
         for (uint32_t m = 0; m < mip_levels; ++m) {
             vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m, 1, 0, 1};
-            VkImageView v = VK_NULL_HANDLE;
-            VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &v));
-            mip_views_.push_back(v);
+            mip_views_.push_back(create_handle<UniqueImageView>(d, vkCreateImageView, vci));
         }
-    } else {
-        mip_views_.push_back(ref_.view);
     }
-    const VkImage img = ref_.image;
+    const VkImage img = image_.get();
     device.submit_and_wait([&](VkCommandBuffer cmd) {
         VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
         b.srcAccessMask = 0;
@@ -102,8 +85,8 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
         b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
         b.image = img;
         b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &b);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             0, 0, nullptr, 0, nullptr, 1, &b);
         VkClearColorValue zero{};
         VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, mip_levels, 0, 1};
         vkCmdClearColorImage(cmd, img, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
@@ -114,64 +97,52 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0,
                              nullptr);
     });
+    ref_ = {image_.get(), view_.get(), format, extent};
 }
 
-LinearClampSampler::LinearClampSampler(const Device& device, uint32_t mip_levels)
-    : device_(device.device()) {
+Image& Image::operator=(Image&& o) noexcept {
+    if (this != &o) {
+        mip_views_.clear();
+        view_ = std::move(o.view_);
+        image_ = std::move(o.image_);
+        memory_ = std::move(o.memory_);
+        mip_views_ = std::exchange(o.mip_views_, {});
+        ref_ = std::exchange(o.ref_, ImageRef{});
+        mips_ = std::exchange(o.mips_, 1);
+    }
+    return *this;
+}
+
+VkImageView Image::mip_view(uint32_t level) const {
+    if (mips_ == 1 && level == 0) return view_.get();
+    return mip_views_.at(level).get();
+}
+
+LinearClampSampler::LinearClampSampler(const Device& device, uint32_t mip_levels) {
     VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
     sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
     sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     sci.maxLod = float(std::max(1u, mip_levels) - 1);
-    VK_CHECK(vkCreateSampler(device_, &sci, nullptr, &sampler_));
+    sampler_ = create_handle<UniqueSampler>(device.device(), vkCreateSampler, sci);
 }
 
-LinearClampSampler& LinearClampSampler::operator=(LinearClampSampler&& o) noexcept {
-    if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        sampler_ = std::exchange(o.sampler_, VK_NULL_HANDLE);
-    }
-    return *this;
-}
-
-void LinearClampSampler::reset() {
-    if (sampler_) vkDestroySampler(device_, sampler_, nullptr);
-    sampler_ = VK_NULL_HANDLE;
-    device_ = VK_NULL_HANDLE;
-}
-
-Image& Image::operator=(Image&& o) noexcept {
-    if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
-        ref_ = std::exchange(o.ref_, ImageRef{});
-        mips_ = std::exchange(o.mips_, 1);
-        mip_views_ = std::move(o.mip_views_);
-        o.mip_views_.clear();
-    }
-    return *this;
-}
-
-void Image::reset() {
-    if (!device_) return;
-    if (mips_ > 1)
-        for (VkImageView v : mip_views_) vkDestroyImageView(device_, v, nullptr);
-    mip_views_.clear();
-    if (ref_.view) vkDestroyImageView(device_, ref_.view, nullptr);
-    if (ref_.image) vkDestroyImage(device_, ref_.image, nullptr);
-    if (memory_) vkFreeMemory(device_, memory_, nullptr);
-    ref_ = ImageRef{};
-    memory_ = VK_NULL_HANDLE;
-    device_ = VK_NULL_HANDLE;
+NearestClampSampler::NearestClampSampler(const Device& device) {
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    sampler_ = create_handle<UniqueSampler>(device.device(), vkCreateSampler, sci);
 }
 
 ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
                                  VkDescriptorSetLayout frame_set_layout,
                                  std::span<const Binding> bindings, uint32_t push_bytes,
-                                 std::span<const uint32_t> spec_constants)
-    : device_(device.device()), push_bytes_(push_bytes) {
+                                 std::span<const uint32_t> spec_constants, uint32_t max_sets,
+                                 VkDescriptorSetLayout host_set_layout,
+                                 const VkDescriptorSet* host_set)
+    : push_bytes_(push_bytes) {
+    const VkDevice d = device.device();
     std::vector<VkDescriptorSetLayoutBinding> lb;
     std::vector<VkDescriptorPoolSize> sizes;
     for (uint32_t i = 0; i < bindings.size(); ++i) {
@@ -181,105 +152,82 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
         b.descriptorCount = bindings[i].count;
         b.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
         lb.push_back(b);
-        sizes.push_back({bindings[i].type, bindings[i].count * 8});
+        sizes.push_back({bindings[i].type, bindings[i].count * max_sets});
     }
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = static_cast<uint32_t>(lb.size());
     dl.pBindings = lb.data();
-    VK_CHECK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &set_layout_));
+    set_layout_ = create_handle<UniqueDescriptorSetLayout>(d, vkCreateDescriptorSetLayout, dl);
     std::vector<VkDescriptorSetLayout> sets;
     if (frame_set_layout) sets.push_back(frame_set_layout);
     own_set_ = static_cast<uint32_t>(sets.size());
-    sets.push_back(set_layout_);
+    sets.push_back(set_layout_.get());
+    if (host_set_layout) {
+        sets.push_back(host_set_layout);
+        host_set_ = host_set;
+    }
     VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = static_cast<uint32_t>(sets.size());
     pl.pSetLayouts = sets.data();
     pl.pushConstantRangeCount = push_bytes ? 1 : 0;
     pl.pPushConstantRanges = &pcr;
-    VK_CHECK(vkCreatePipelineLayout(device_, &pl, nullptr, &layout_));
+    layout_ = create_handle<UniquePipelineLayout>(d, vkCreatePipelineLayout, pl);
     VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     smi.codeSize = spirv.size() * sizeof(uint32_t);
     smi.pCode = spirv.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(device_, &smi, nullptr, &module));
+    const UniqueShaderModule module =
+        create_handle<UniqueShaderModule>(d, vkCreateShaderModule, smi);
     std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < spec_constants.size(); ++i)
-        entries.push_back({i, i * 4u, 4});
+    for (uint32_t i = 0; i < spec_constants.size(); ++i) entries.push_back({i, i * 4u, 4});
     VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(),
                               spec_constants.size() * 4, spec_constants.data()};
     VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpi.stage.module = module;
+    cpi.stage.module = module.get();
     cpi.stage.pName = "main";
     cpi.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
-    cpi.layout = layout_;
-    const VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cpi, nullptr,
-                                                &pipeline_);
-    vkDestroyShaderModule(device_, module, nullptr);
-    VK_CHECK(r);
+    cpi.layout = layout_.get();
+    pipeline_ = create_pipeline(d, vkCreateComputePipelines, cpi);
     if (!sizes.empty()) {
         VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-        dpi.maxSets = 8;
+        dpi.maxSets = max_sets;
         dpi.poolSizeCount = static_cast<uint32_t>(sizes.size());
         dpi.pPoolSizes = sizes.data();
-        VK_CHECK(vkCreateDescriptorPool(device_, &dpi, nullptr, &pool_));
+        pool_ = create_handle<UniqueDescriptorPool>(d, vkCreateDescriptorPool, dpi);
     }
-}
-
-ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
-    if (this != &o) {
-        reset();
-        device_ = std::exchange(o.device_, VK_NULL_HANDLE);
-        set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
-        layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
-        pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
-        pool_ = std::exchange(o.pool_, VK_NULL_HANDLE);
-        own_set_ = o.own_set_;
-        push_bytes_ = o.push_bytes_;
-    }
-    return *this;
-}
-
-void ComputePipeline::reset() {
-    if (!device_) return;
-    if (pool_) vkDestroyDescriptorPool(device_, pool_, nullptr);
-    if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
-    if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
-    if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
-    pool_ = VK_NULL_HANDLE;
-    pipeline_ = VK_NULL_HANDLE;
-    layout_ = VK_NULL_HANDLE;
-    set_layout_ = VK_NULL_HANDLE;
-    device_ = VK_NULL_HANDLE;
 }
 
 VkDescriptorSet ComputePipeline::allocate_set() {
     assert(pool_ && "pipeline has no own bindings");
+    const VkDescriptorSetLayout layout = set_layout_.get();
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = pool_;
+    ai.descriptorPool = pool_.get();
     ai.descriptorSetCount = 1;
-    ai.pSetLayouts = &set_layout_;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateDescriptorSets(device_, &ai, &set));
+    ai.pSetLayouts = &layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+    VK_CHECK(vkAllocateDescriptorSets(pool_.parent(), &ai, &set));
     return set;
 }
 
 void ComputePipeline::bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescriptorSet own,
                            const void* push, uint32_t push_bytes) const {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
     if (own_set_ == 1) {
         assert(frame_set);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &frame_set,
-                                0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1,
+                                &frame_set, 0, nullptr);
     }
     if (own)
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, own_set_, 1, &own,
-                                0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), own_set_, 1,
+                                &own, 0, nullptr);
+    if (host_set_ && *host_set_)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), own_set_ + 1, 1,
+                                host_set_, 0, nullptr);
     if (push && push_bytes) {
         assert(push_bytes <= push_bytes_);
-        vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
+        vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
     }
 }
 
@@ -290,8 +238,8 @@ DescriptorWriter& DescriptorWriter::storage_image(uint32_t binding, VkImageView 
 }
 
 DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view,
-                                                  VkSampler sampler) {
-    images_.push_back({sampler, view, VK_IMAGE_LAYOUT_GENERAL});
+                                                  VkSampler sampler, VkImageLayout layout) {
+    images_.push_back({sampler, view, layout});
     pending_.push_back(
         {binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, images_.size() - 1, true});
     return *this;

@@ -17,13 +17,16 @@ namespace fovea::vk {
 // Everything a method's record() sees. Called on the host's render thread.
 struct MethodFrame {
     VkCommandBuffer cmd;
-    VkDescriptorSet frame_set;        // bind as set 0
+    VkDescriptorSet frame_set;  // bind as set 0
     uint64_t frame_index;
-    const FrameUniforms& uniforms;    // CPU copy of the frame's uniform block
+    const FrameUniforms& uniforms;  // CPU copy of the frame's uniform block
     const FrameInputs& inputs;
     const ResolvedGaze& gaze;
-    const ImageRef& color;            // write every pixel (RGBA16F linear)
-    const ImageRef& rate;             // write S_t for every pixel (R16F)
+    const ImageRef& color;  // write every pixel (RGBA16F linear)
+    const ImageRef& rate;   // write S_t for every pixel (R16F)
+    // Forward layers (IntegrationPath::kForwardLayers): write every pixel of depth and motion
+    // for the post chain; null on the other paths.
+    const HostTargets* depth_out = nullptr;
 };
 
 class Method {
@@ -36,6 +39,11 @@ public:
     virtual std::vector<ViewRequest> views(uint64_t /*frame_index*/, const ResolvedGaze&) {
         return {};
     }
+    // True when views() asks the host for images every frame (record() warns when the host did
+    // not call views() for the frame).
+    virtual bool has_views() const { return false; }
+    // Samples the host rendered itself this frame (forward layers), added to shaded_samples.
+    virtual uint64_t host_rendered_samples() const { return 0; }
     // False when the method needs only its views(), not the full-resolution G-buffer.
     virtual bool uses_full_gbuffer() const { return true; }
     // Records the shading. The frame stats buffer was zeroed and the G-buffer made visible; add

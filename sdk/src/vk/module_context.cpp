@@ -15,10 +15,10 @@ Result<ComputePipeline> ModuleContext::shading_pipeline(std::string_view shader_
     auto spirv = compile_with_host(shader_name, config.shading_glsl, defines);
     if (!spirv) return spirv.error();
     try {
-        return ComputePipeline(device, *spirv, frame_set_layout, bindings, push_bytes, spec);
+        return ComputePipeline(device, *spirv, frame_set_layout, bindings, push_bytes, spec, 8,
+                               config.host_set_layout, host_set);
     } catch (const VkError& e) {
-        return make_error(std::string(shader_name) + ": " + e.what(),
-                          static_cast<int>(e.result()));
+        return make_error(std::string(shader_name) + ": " + e.what(), static_cast<int>(e.result()));
     }
 }
 
@@ -27,8 +27,8 @@ ComputePipeline ModuleContext::builtin_pipeline(std::string_view shader_name,
                                                 uint32_t push_bytes, bool with_frame_set,
                                                 std::span<const uint32_t> spec) const {
     return ComputePipeline(device, shader_spirv(shader_name),
-                           with_frame_set ? frame_set_layout : VK_NULL_HANDLE, bindings,
-                           push_bytes, spec);
+                           with_frame_set ? frame_set_layout : VK_NULL_HANDLE, bindings, push_bytes,
+                           spec);
 }
 
 std::string ModuleContext::option(std::string_view key, std::string_view fallback) const {

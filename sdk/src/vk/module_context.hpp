@@ -20,21 +20,23 @@ struct ModuleContext {
     VkExtent2D extent;
     VkDescriptorSetLayout frame_set_layout;  // set 0 of every pipeline that wants it
     const GBufferRefs& gbuffer;
-    const ImageRef& rate_tiles;              // R8_UINT per-tile rate (cps writes it)
-    const Buffer& stats;                     // FrameStatsGpu
+    const ImageRef& rate_tiles;  // R8_UINT per-tile rate (cps writes it)
+    // The host's descriptor set of the frame being recorded (FrameInputs::host_set), bound as
+    // set 2 of every shading pipeline when config.host_set_layout is set.
+    const VkDescriptorSet* host_set = nullptr;
 
     // A pipeline from a *.shade.comp compiled at run time with the host's shading function.
     // Set 0 is the frame set, set 1 the pipeline's own `bindings`.
     Result<ComputePipeline> shading_pipeline(std::string_view shader_name,
-                                             std::span<const Binding> bindings,
-                                             uint32_t push_bytes,
+                                             std::span<const Binding> bindings, uint32_t push_bytes,
                                              const std::vector<std::string>& defines = {},
                                              std::span<const uint32_t> spec = {}) const;
     // A pipeline from build-time SPIR-V (shaders/<name>, not *.shade.comp). with_frame_set:
     // set 0 = frame set and own bindings in set 1; otherwise own bindings in set 0.
     ComputePipeline builtin_pipeline(std::string_view shader_name,
                                      std::span<const Binding> bindings, uint32_t push_bytes,
-                                     bool with_frame_set, std::span<const uint32_t> spec = {}) const;
+                                     bool with_frame_set,
+                                     std::span<const uint32_t> spec = {}) const;
 
     // FoveatorConfig::options lookup: "key=value"; `fallback` when absent.
     std::string option(std::string_view key, std::string_view fallback) const;

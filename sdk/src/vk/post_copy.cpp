@@ -30,8 +30,8 @@ public:
             it = sets_.emplace(key, set).first;
         }
         pipeline_.bind(f.cmd, VK_NULL_HANDLE, it->second);
-        vkCmdDispatch(f.cmd, div_up(f.color_in.extent.width, 8), div_up(f.color_in.extent.height, 8),
-                      1);
+        vkCmdDispatch(f.cmd, div_up(f.color_in.extent.width, 8),
+                      div_up(f.color_in.extent.height, 8), 1);
     }
 
 private:

@@ -17,16 +17,16 @@ namespace fovea::vk {
 // are visible (the Foveator puts a barrier between passes).
 struct PostFrame {
     VkCommandBuffer cmd;
-    VkDescriptorSet frame_set;     // set 0 of pipelines made with_frame_set (uniforms, G-buffer)
+    VkDescriptorSet frame_set;  // set 0 of pipelines made with_frame_set (uniforms, G-buffer)
     uint64_t frame_index;
-    const FrameUniforms& uniforms; // jitter_px, gaze, acuity, ...
-    const FrameInputs& inputs;     // camera_cut resets history
+    const FrameUniforms& uniforms;  // jitter_px, gaze, acuity, ...
+    const FrameInputs& inputs;      // camera_cut resets history
     const ResolvedGaze& gaze;
-    const ImageRef& color_in;      // RGBA16F linear HDR (method output or previous pass)
-    const ImageRef& color_out;     // RGBA16F: write every pixel
-    const ImageRef& depth;         // G-buffer depth (R32F, 1 = far)
-    const ImageRef& motion;        // G-buffer motion (RG16F pixels, current - previous)
-    const ImageRef& rate;          // S_t of this frame (R16F; 0 fovea .. 1 coarsest)
+    const ImageRef& color_in;   // RGBA16F linear HDR (method output or previous pass)
+    const ImageRef& color_out;  // RGBA16F: write every pixel
+    const ImageRef& depth;      // G-buffer depth (R32F, 1 = far)
+    const ImageRef& motion;     // G-buffer motion (RG16F pixels, current - previous)
+    const ImageRef& rate;       // S_t of this frame (R16F; 0 fovea .. 1 coarsest)
     std::array<float, 2> jitter_px;
 };
 

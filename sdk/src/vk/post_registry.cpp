@@ -11,10 +11,26 @@ namespace fovea::vk {
 
 std::span<const PostPassEntry> post_pass_registry() {
     static const PostPassEntry kPasses[] = {
-        {"copy", [] { std::unique_ptr<PostPass> make_copy_pass(); return make_copy_pass(); }},
-        {"taa", [] { std::unique_ptr<PostPass> make_taa_pass(); return make_taa_pass(); }},
-        {"contrast", [] { std::unique_ptr<PostPass> make_contrast_pass(); return make_contrast_pass(); }},
-        {"noise", [] { std::unique_ptr<PostPass> make_noise_pass(); return make_noise_pass(); }},
+        {"copy",
+         [] {
+             std::unique_ptr<PostPass> make_copy_pass();
+             return make_copy_pass();
+         }},
+        {"taa",
+         [] {
+             std::unique_ptr<PostPass> make_taa_pass();
+             return make_taa_pass();
+         }},
+        {"contrast",
+         [] {
+             std::unique_ptr<PostPass> make_contrast_pass();
+             return make_contrast_pass();
+         }},
+        {"noise",
+         [] {
+             std::unique_ptr<PostPass> make_noise_pass();
+             return make_noise_pass();
+         }},
     };
     return kPasses;
 }

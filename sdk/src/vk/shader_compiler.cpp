@@ -50,8 +50,8 @@ Result<std::vector<uint32_t>> compile_glsl(std::string_view source, std::string_
     std::string preamble;
     for (const std::string& d : defines) {
         const auto eq = d.find('=');
-        preamble += "#define " + (eq == std::string::npos ? d : d.substr(0, eq) + " " +
-                                                                    d.substr(eq + 1)) + "\n";
+        preamble += "#define " +
+                    (eq == std::string::npos ? d : d.substr(0, eq) + " " + d.substr(eq + 1)) + "\n";
     }
     glslang::TShader shader(EShLangCompute);
     const char* src = source.data();

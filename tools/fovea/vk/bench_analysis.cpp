@@ -7,22 +7,24 @@
 
 namespace fovea::bench {
 
-std::vector<size_t> pareto_front(const std::vector<CostQuality>& points) {
+std::vector<size_t> pareto_front(const std::vector<CostError>& points) {
     std::vector<size_t> order;
     for (size_t i = 0; i < points.size(); ++i)
-        if (std::isfinite(points[i].cost) && std::isfinite(points[i].quality)) order.push_back(i);
-    // Cheapest first; at equal cost the best quality first, so a sweep keeping the best quality
+        if (std::isfinite(points[i].cost) && !std::isnan(points[i].error) &&
+            points[i].error != std::numeric_limits<double>::infinity())
+            order.push_back(i);
+    // Cheapest first; at equal cost the lowest error first, so a sweep keeping the lowest error
     // seen so far accepts exactly the undominated points.
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
         if (points[a].cost != points[b].cost) return points[a].cost < points[b].cost;
-        return points[a].quality > points[b].quality;
+        return points[a].error < points[b].error;
     });
     std::vector<size_t> front;
-    double best = -std::numeric_limits<double>::infinity();
+    double best = std::numeric_limits<double>::infinity();
     for (size_t i : order) {
-        if (points[i].quality > best) {
+        if (points[i].error < best) {
             front.push_back(i);
-            best = points[i].quality;
+            best = points[i].error;
         }
     }
     return front;
@@ -49,8 +51,7 @@ double finite_mean(const std::vector<double>& v) {
 std::vector<float> luminance(const std::vector<uint8_t>& rgb, uint32_t width, uint32_t height) {
     std::vector<float> l(size_t(width) * height);
     for (size_t i = 0; i < l.size(); ++i)
-        l[i] = (0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2]) /
-               255.f;
+        l[i] = (0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2]) / 255.f;
     return l;
 }
 
@@ -59,10 +60,12 @@ namespace {
 float half_to_float(uint16_t h) {
     const uint32_t e = (h >> 10) & 31u, m = h & 1023u;
     float v;
-    if (e == 0) v = std::ldexp(float(m), -24);
-    else if (e == 31) v = m ? std::numeric_limits<float>::quiet_NaN()
-                            : std::numeric_limits<float>::infinity();
-    else v = std::ldexp(float(m | 1024u), int(e) - 25);
+    if (e == 0)
+        v = std::ldexp(float(m), -24);
+    else if (e == 31)
+        v = m ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+    else
+        v = std::ldexp(float(m | 1024u), int(e) - 25);
     return (h & 0x8000u) ? -v : v;
 }
 

@@ -10,16 +10,17 @@
 
 namespace fovea::bench {
 
-// One benchmarked variant: cost (ms/frame, lower is better) and quality (dB, higher is better).
-struct CostQuality {
+// One benchmarked variant: cost (ms/frame) and error (mean FLIP; -dB for PSNR), both lower-better.
+struct CostError {
     double cost = 0.0;
-    double quality = 0.0;
+    double error = 0.0;
 };
 
-// Indices of the points no other point dominates (cost <= and quality >=, one strictly),
-// ordered by increasing cost. Points with a non-finite coordinate are never on the front; of
-// exact duplicates only the first index is kept.
-std::vector<size_t> pareto_front(const std::vector<CostQuality>& points);
+// Indices of the points no other point dominates (cost <= and error <=, one strictly), ordered
+// by increasing cost. Points with a non-finite cost, a NaN or +inf error are never on the front
+// (-inf is the best error: -PSNR of an identical image); of exact duplicates only the first
+// index is kept.
+std::vector<size_t> pareto_front(const std::vector<CostError>& points);
 
 // Nearest-rank percentile (p in [0, 100]) of v; NaN for an empty v.
 double percentile(std::vector<double> v, double p);

@@ -162,7 +162,8 @@ int run_demo(const DemoOptions& o) {
             std::fprintf(stderr, "fovea demo: %s\n", t.error().message.c_str());
             return 1;
         }
-        if (dropped) std::fprintf(stderr, "fovea demo: %zu malformed trace lines skipped\n", dropped);
+        if (dropped)
+            std::fprintf(stderr, "fovea demo: %zu malformed trace lines skipped\n", dropped);
         trace = std::make_shared<demo::GazeTrace>(std::move(*t));
         ro.gaze = [trace](double t_s) { return trace->at(t_s); };
         std::fprintf(stderr, "gaze: trace %s (%zu samples)\n", o.trace.c_str(),
@@ -218,6 +219,11 @@ int run_demo(const DemoOptions& o) {
     }
     std::printf("PNGs in %s/ (<prefix>_<frame>_<method>.png, _reference.png, _<method>_rate.png)\n",
                 o.out.c_str());
+    if (const uint64_t n = device->validation_errors(); n > 0) {
+        std::fprintf(stderr, "fovea demo: %llu Vulkan validation errors\n",
+                     static_cast<unsigned long long>(n));
+        return 1;
+    }
     return 0;
 }
 
@@ -234,14 +240,15 @@ void setup(CLI::App& app) {
     app.add_option("--post", o->post, "Post passes after shading (e.g. taa contrast)");
     app.add_option("--dt", o->dt, "Seconds between rendered frames along the path")
         ->check(CLI::Range(0.001, 10.0));
-    app.add_flag("--validation", o->validation, "Enable Vulkan validation layers");
+    app.add_flag("--validation", o->validation,
+                 "Vulkan validation layers on; any validation error fails the run");
     app.callback([o] {
         if (const int rc = run_demo(*o); rc != 0) throw CLI::RuntimeError(rc);
     });
 }
 
-const Command kDemo{"demo", "Render the foveated demo scene headless against the full-rate reference",
-                    &setup};
+const Command kDemo{
+    "demo", "Render the foveated demo scene headless against the full-rate reference", &setup};
 
 }  // namespace
 }  // namespace fovea::cli

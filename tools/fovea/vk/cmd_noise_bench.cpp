@@ -16,8 +16,8 @@
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
 #include <stb/stb_easy_font.h>
+#include <stb/stb_image_write.h>
 
 #include "command.hpp"
 #include "fovea/vk/acuity.hpp"
@@ -49,7 +49,7 @@ struct Row {
     int impulses;
     double param_ms;
     double synth_ms;
-    double gpu_foveated_ms = -1;   // < 0: not measured
+    double gpu_foveated_ms = -1;  // < 0: not measured
     double gpu_periphery_ms = -1;
 };
 
@@ -79,8 +79,8 @@ public:
     }
     void text(int x, int y, const std::string& s, const unsigned char* c) {
         static char buf[60000];
-        const int quads = stb_easy_font_print(0, 0, const_cast<char*>(s.c_str()), nullptr, buf,
-                                              sizeof(buf));
+        const int quads =
+            stb_easy_font_print(0, 0, const_cast<char*>(s.c_str()), nullptr, buf, sizeof(buf));
         const float* v = reinterpret_cast<const float*>(buf);
         for (int q = 0; q < quads; ++q) {  // 4 vertices of 16 bytes (x, y, z, colour)
             const float* a = v + q * 16;
@@ -110,7 +110,8 @@ bool write_plot(const std::vector<Row>& rows, const std::string& path, int size,
     ymax *= 1.1;
     auto X = [&](int imp) { return left + int((imp - 0) * double(w - left - right) / 68.0); };
     auto Y = [&](double ms) { return h - bottom - int(ms / ymax * (h - top - bottom)); };
-    for (int k = 1; k <= 4; ++k) c.line(left, Y(ymax * k / 4.4), w - right, Y(ymax * k / 4.4), grey);
+    for (int k = 1; k <= 4; ++k)
+        c.line(left, Y(ymax * k / 4.4), w - right, Y(ymax * k / 4.4), grey);
     c.line(left, h - bottom, w - right, h - bottom, black);
     c.line(left, top, left, h - bottom, black);
     for (const Row& r : rows) {
@@ -135,8 +136,10 @@ bool write_plot(const std::vector<Row>& rows, const std::string& path, int size,
         series([](const Row& r) { return r.gpu_foveated_ms; }, green);
         series([](const Row& r) { return r.gpu_periphery_ms; }, orange);
     }
-    c.text(left, 4, "Gabor noise: ms vs impulses per kernel. CPU reference at " +
-                        std::to_string(size) + "x" + std::to_string(size), black);
+    c.text(left, 4,
+           "Gabor noise: ms vs impulses per kernel. CPU reference at " + std::to_string(size) +
+               "x" + std::to_string(size),
+           black);
     c.text(left + 10, 16, "CPU total", black);
     c.text(left + 80, 16, "CPU synthesis", red);
     c.text(left + 180, 16, "CPU parameter estimation", blue);
@@ -210,9 +213,11 @@ Result<std::vector<double>> time_gpu_pass(const vk::Device& dev, VkExtent2D e,
     VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
     qi.queryCount = 2;
-    VkQueryPool queries = VK_NULL_HANDLE;
-    if (vkCreateQueryPool(dev.device(), &qi, nullptr, &queries) != VK_SUCCESS)
+    VkQueryPool raw_queries = VK_NULL_HANDLE;
+    if (vkCreateQueryPool(dev.device(), &qi, nullptr, &raw_queries) != VK_SUCCESS)
         return make_error("cannot create a timestamp query pool");
+    const vk::UniqueQueryPool owned_queries(dev.device(), raw_queries);
+    const VkQueryPool queries = owned_queries.get();
     const double tick_ms = double(dev.properties().limits.timestampPeriod) * 1e-6;
 
     std::vector<double> medians;
@@ -222,22 +227,18 @@ Result<std::vector<double>> time_gpu_pass(const vk::Device& dev, VkExtent2D e,
         config.options = {"noise.impulses=" + std::to_string(n)};
         const vk::GBufferRefs gbuffer{};
         const vk::ImageRef rate_tiles{};
-        const vk::Buffer stats;
-        const vk::ModuleContext ctx{dev, config, e, VK_NULL_HANDLE, gbuffer, rate_tiles, stats};
+        const vk::ModuleContext ctx{dev, config, e, VK_NULL_HANDLE, gbuffer, rate_tiles};
         auto pass = vk::make_noise_pass();
-        if (auto r = pass->init(ctx); !r) {
-            vkDestroyQueryPool(dev.device(), queries, nullptr);
-            return r.error();
-        }
+        if (auto r = pass->init(ctx); !r) return r.error();
         const vk::FrameInputs inputs;
         std::vector<double> ms;
         for (int rep = 0; rep <= repeats; ++rep) {  // the first run warms up
             dev.submit_and_wait([&](VkCommandBuffer cmd) {
                 vkCmdResetQueryPool(cmd, queries, 0, 2);
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries, 0);
-                const vk::PostFrame f{cmd,    VK_NULL_HANDLE,   uint64_t(rep), u,
-                                      inputs, gaze,             color_in.ref(), color_out.ref(),
-                                      depth.ref(), motion.ref(), rate_img.ref(), {0.f, 0.f}};
+                const vk::PostFrame f{cmd,         VK_NULL_HANDLE, uint64_t(rep),  u,
+                                      inputs,      gaze,           color_in.ref(), color_out.ref(),
+                                      depth.ref(), motion.ref(),   rate_img.ref(), {0.f, 0.f}};
                 pass->record(f);
                 vk::compute_barrier(cmd);
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries, 1);
@@ -249,7 +250,6 @@ Result<std::vector<double>> time_gpu_pass(const vk::Device& dev, VkExtent2D e,
         }
         medians.push_back(median(ms));
     }
-    vkDestroyQueryPool(dev.device(), queries, nullptr);
     return medians;
 }
 
@@ -285,8 +285,9 @@ int run(const NoiseBenchOptions& o) {
             checksum += noise.data[std::size_t(n) * n / 2];
         }
         rows.push_back({impulses, median(tp), median(ts)});
-        std::printf("%-10d %12.2f %12.2f %12.2f   (checksum %.4g)\n", impulses, rows.back().param_ms,
-                    rows.back().synth_ms, rows.back().param_ms + rows.back().synth_ms, checksum);
+        std::printf("%-10d %12.2f %12.2f %12.2f   (checksum %.4g)\n", impulses,
+                    rows.back().param_ms, rows.back().synth_ms,
+                    rows.back().param_ms + rows.back().synth_ms, checksum);
     }
     if (o.gpu) {
         VkExtent2D e{};
@@ -359,9 +360,8 @@ void setup(CLI::App& app) {
     });
 }
 
-const Command kNoiseBench{"noise-bench",
-                          "Gabor-noise enhancement cost against impulses per kernel (CSV + PNG)",
-                          &setup};
+const Command kNoiseBench{
+    "noise-bench", "Gabor-noise enhancement cost against impulses per kernel (CSV + PNG)", &setup};
 
 }  // namespace
 }  // namespace fovea::cli

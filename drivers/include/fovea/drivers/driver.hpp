@@ -4,11 +4,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
-#include <boost/asio/io_context.hpp>
 #include <toml++/toml.h>
+#include <boost/asio/io_context.hpp>
 
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
@@ -16,9 +17,9 @@
 namespace fovea::drivers {
 
 struct DriverInfo {
-    std::string driver;       // registry name: "sim", "serial", ...
-    std::string name;         // human-readable device name, e.g. "Fovea serial tracker v1"
-    std::string address;      // port, TCP address, VID:PID, ...
+    std::string driver;   // registry name: "sim", "serial", ...
+    std::string name;     // human-readable device name, e.g. "Fovea serial tracker v1"
+    std::string address;  // port, TCP address, VID:PID, ...
     double nominal_rate_hz = 0.0;
     gaze::DeviceClock clock;
     bool binocular = true;
@@ -35,6 +36,10 @@ struct DriverStats {
     uint64_t reconnects = 0;
     bool connected = false;
     std::string last_error;
+    // Driver-specific figures and texts for `fovea status` (e.g. the pupil driver's
+    // "clock_offset_s", "clock_uncertainty_us", "version"); shown under "details".
+    std::map<std::string, double> figures;
+    std::map<std::string, std::string> notes;
 };
 
 // Called on the io_context's thread with every good sample, in order.
@@ -45,9 +50,9 @@ using SampleSink = std::function<void(const gaze::RawSample&)>;
 struct HeadPose {
     uint64_t device_ticks = 0;  // device counter as read; same clock as the device's RawSamples
     int64_t t_receive_ns = 0;   // host CLOCK_MONOTONIC when the report arrived
-    double position_m[3] = {0, 0, 0};            // tracker frame, metres
-    double direction[3] = {0, 0, 1};             // unit forward direction, tracker frame
-    double rotation_quat[4] = {0, 0, 0, 1};      // x, y, z, w
+    double position_m[3] = {0, 0, 0};        // tracker frame, metres
+    double direction[3] = {0, 0, 1};         // unit forward direction, tracker frame
+    double rotation_quat[4] = {0, 0, 0, 1};  // x, y, z, w
     bool position_valid = false, direction_valid = false, rotation_valid = false;
     uint32_t device_id = 0;
 };

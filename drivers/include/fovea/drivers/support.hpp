@@ -57,8 +57,7 @@ inline std::optional<uint16_t> parse_usb_id(const toml::node_view<const toml::no
             std::size_t used = 0;
             const unsigned long n = std::stoul(*s, &used, 16);
             if (used == s->size() && n <= 0xFFFF) return static_cast<uint16_t>(n);
-        } catch (...) {
-        }
+        } catch (...) {}
     }
     return std::nullopt;
 }

@@ -3,6 +3,7 @@
 // All functions are pure and thread-safe.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,27 +33,28 @@ struct EyeDisplay {
 
 // Guenter's MAR line and Patney's piecewise-linear rate (shaders/fovea_acuity.glsl).
 struct AcuityParams {
-    float mar_slope = 0.022f;          // m: Guenter's quality-B slope; 0.034 is more aggressive
-    float mar_omega0 = 1.0f / 48.0f;   // w0, degrees
-    float foveal_radius_deg = 5.0f;    // full rate inside (Patney: 7.5 desktop, 15 HMD; 5 is
-                                       // aggressive-but-acceptable per his §4.4 note)
-    float transition_deg = 5.0f;       // linear ramp to the MAR-limited rate
-    float max_rate = 4.0f;             // coarsest coarse-pixel edge: 1, 2 or 4
-    uint32_t tile_size = 16;           // pixels per rate-tile edge (multiple of max_rate)
-    float uncertainty_sigmas = 2.0f;   // fovea widened by this many gaze 1-sigma
-    float drift_dps = 1.0f;            // and by sample age times this (fixational eye motion)
-    float max_margin_deg = 10.0f;      // cap on the widening
+    float mar_slope = 0.022f;         // m: Guenter's quality-B slope; 0.034 is more aggressive
+    float mar_omega0 = 1.0f / 48.0f;  // w0, degrees
+    float foveal_radius_deg = 5.0f;   // full rate inside (Patney: 7.5 desktop, 15 HMD; 5 is
+                                      // aggressive-but-acceptable per his §4.4 note)
+    float transition_deg = 5.0f;      // linear ramp to the MAR-limited rate
+    float max_rate = 4.0f;            // coarsest coarse-pixel edge: 1, 2 or 4
+    uint32_t tile_size = 16;          // pixels per rate-tile edge (multiple of max_rate)
+    float uncertainty_sigmas = 2.0f;  // fovea widened by this many gaze 1-sigma
+    float drift_dps = 1.0f;           // and by sample age times this (fixational eye motion)
+    float max_margin_deg = 10.0f;     // cap on the widening
 };
 
 // The gaze a frame is rendered for: one eye (or the combined gaze) in normalized display
-// coordinates (0..1, origin top-left; off-screen values are fine, NaN falls back to the centre).
+// coordinates (0..1, origin top-left; off-screen values are fine; NaN means no gaze this frame,
+// e.g. a blink: GazeResolver holds the last valid gaze, resolve_gaze() falls back to the centre).
 struct GazeState {
     float x = 0.5f;
     float y = 0.5f;
     float uncertainty_deg = 0.0f;  // 1-sigma of the estimate
     float age_s = 0.0f;            // capture -> display time (latency plus frame time)
     bool in_saccade = false;
-    bool landing_valid = false;    // saccade landing prediction, used as centre in a saccade
+    bool landing_valid = false;  // saccade landing prediction, used as centre in a saccade
     float landing_x = 0.5f, landing_y = 0.5f;
     float landing_uncertainty_deg = 0.0f;
 
@@ -66,7 +68,8 @@ struct GazeState {
 struct ResolvedGaze {
     float x_px = 0.0f, y_px = 0.0f;  // rate centre in pixels (may lie off screen)
     float margin_deg = 0.0f;         // eccentricity subtracted before the rate model
-    bool fell_back = false;          // the gaze was NaN/inf: centre of the screen used
+    bool fell_back = false;          // NaN/inf gaze and none valid before: screen centre used
+    bool held = false;               // NaN/inf gaze: the last valid gaze held (GazeResolver)
     bool used_landing = false;       // in a saccade with a landing prediction
 };
 
@@ -90,13 +93,37 @@ struct ResolvedGaze {
 //   measure, not to widen away: fovea_frame_latency counts those frames (stale threshold,
 //   default FOVEA_STALE_GAZE_DEFAULT_NS = 40 ms) and `fovea latency` shows the count.
 // Resolves the gaze for a frame. Non-finite coordinates fall back to the screen centre and set
-// fell_back (the Foveator logs a warning). Off-screen gaze is clamped to 4 screen sizes away.
+// fell_back. Off-screen gaze is clamped to 4 screen sizes away. Stateless: frame-to-frame hosts
+// use GazeResolver, which holds the last valid gaze through blinks.
 ResolvedGaze resolve_gaze(const GazeState& gaze, const EyeDisplay& display,
                           const AcuityParams& acuity);
 
-float eccentricity_deg(const EyeDisplay& display, float px, float py, float gaze_px,
-                       float gaze_py);
-float pixel_size_deg(const EyeDisplay& display, float px, float py);
+// resolve_gaze() frame after frame, holding the last valid gaze through non-finite samples (a
+// blink, a lost pupil) instead of jumping to the screen centre: the held gaze ages by the frame
+// time (time_s), so its margin widens at drift_dps up to max_margin_deg, and sets `held`. Before
+// the first valid gaze it falls back to the centre (fell_back). The Foveator owns one; hosts on
+// the rate-image path (VrsAttachment) use their own. Not thread-safe: one per view, one thread.
+class GazeResolver {
+public:
+    GazeResolver(const EyeDisplay& display, const AcuityParams& acuity)
+        : display_(display), acuity_(acuity) {}
+    // time_s: the frame's time (FrameInputs::time_s), non-decreasing; 0 for all frames is fine
+    // (the held gaze then keeps the age it had).
+    ResolvedGaze resolve(const GazeState& gaze, double time_s);
+    void reset() { has_valid_ = false; }
+
+private:
+    EyeDisplay display_;
+    AcuityParams acuity_;
+    bool has_valid_ = false;
+    GazeState last_valid_;
+    double last_valid_time_s_ = 0.0;
+};
+
+float eccentricity_deg(const EyeDisplay& display, float px, float py, float gaze_px, float gaze_py);
+float pixel_size_deg(const EyeDisplay& display, float px, float py);  // the larger of both axes
+// Angular size of one pixel along x and along y (each depends on that coordinate only).
+std::array<float, 2> pixel_size_deg_axes(const EyeDisplay& display, float px, float py);
 float mar_deg(const AcuityParams& acuity, float eccentricity_deg);
 // Continuous rate (coarse pixel edge, >= 1) at a pixel; quantized rate of a tile.
 float rate_at(const EyeDisplay& display, const AcuityParams& acuity, const ResolvedGaze& gaze,

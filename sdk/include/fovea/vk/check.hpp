@@ -26,9 +26,9 @@ private:
 
 }  // namespace fovea::vk
 
-#define VK_CHECK(call)                                                             \
-    do {                                                                           \
-        const VkResult fovea_vk_check_r_ = (call);                                 \
-        if (fovea_vk_check_r_ != VK_SUCCESS)                                       \
+#define VK_CHECK(call)                                                                 \
+    do {                                                                               \
+        const VkResult fovea_vk_check_r_ = (call);                                     \
+        if (fovea_vk_check_r_ != VK_SUCCESS)                                           \
             ::fovea::vk::throw_vk_error(fovea_vk_check_r_, #call, __FILE__, __LINE__); \
     } while (0)

@@ -11,8 +11,8 @@
 // F_H, F_S on; 0: acuity and eye motion only).
 #include <algorithm>
 #include <array>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <sstream>
 
@@ -95,8 +95,9 @@ public:
         half_p_ = Image(ctx.device, half, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
         half_dilated_ = Image(ctx.device, half, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
         // A full mip chain is shorter than kMaxLevels on tiny frames.
-        levels_ = std::min(kMaxLevels, uint32_t(std::floor(std::log2(std::max(
-                                           extent_.width, extent_.height)))) + 1);
+        levels_ =
+            std::min(kMaxLevels,
+                     uint32_t(std::floor(std::log2(std::max(extent_.width, extent_.height)))) + 1);
         pyramid_ = Image(ctx.device, extent_, kColorFormat,
                          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, levels_);
         list_ = Buffer(ctx.device, 16 + 4ull * extent_.width * extent_.height,
@@ -234,8 +235,8 @@ public:
         for (uint32_t l = levels_ - 1; l-- > 0;) {
             push.level = int32_t(l);
             const VkExtent2D e = level_extent(l);
-            (l == 0 ? push_final_ : push_pass_).bind(cmd, f.frame_set, push_sets_[l], &push,
-                                                     sizeof(push));
+            (l == 0 ? push_final_ : push_pass_)
+                .bind(cmd, f.frame_set, push_sets_[l], &push, sizeof(push));
             vkCmdDispatch(cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
             if (l > 0) compute_barrier(cmd);
         }

@@ -16,11 +16,11 @@ struct AdaptiveParams {
     double omega0 = 1.1715;
     double slope = -2.45;
     double omega_p = 0.02;
-    double gamma = 20.0;            // highlight exponent, Eq. 8
-    double adapt_rate = 0.05;       // a_r, Eq. 10
-    double auto_exposure = 0.5;     // A: target mean tone-mapped luminance, Eq. 10
-    double t_dark = 0.15;           // Eq. 11
-    double t_bright = 0.9;          // Eq. 11
+    double gamma = 20.0;         // highlight exponent, Eq. 8
+    double adapt_rate = 0.05;    // a_r, Eq. 10
+    double auto_exposure = 0.5;  // A: target mean tone-mapped luminance, Eq. 10
+    double t_dark = 0.15;        // Eq. 11
+    double t_bright = 0.9;       // Eq. 11
     // The paper's silhouette filter has no constants: relative depth step and normal angle that
     // count as a full silhouette (F_S = 1). 5 % depth change, 1 - cos = 0.25 (~41°).
     double silhouette_depth = 0.05;
@@ -57,8 +57,8 @@ double highlight_term(const double light_dir[3], const double reflect_dir[3], do
 // the normal deviation, each scaled to 1 at the thresholds in AdaptiveParams, clamped to [0, 1].
 double silhouette_response(double depth, const double neighbour_depth[4], const double normal[3],
                            const double neighbour_normal[4][3], const AdaptiveParams& p);
-double luminance(double r, double g, double b);          // Eq. 9
-double tonemap(double lum, double exposure);             // Reinhard: E L / (1 + E L)
+double luminance(double r, double g, double b);  // Eq. 9
+double tonemap(double lum, double exposure);     // Reinhard: E L / (1 + E L)
 double brightness_scale(double tonemapped_lum, const AdaptiveParams& p);  // Eq. 11
 // Eq. 12 (before dilation).
 double sampling_probability(double f_m, double f_o, double f_h, double f_s, double scale);

@@ -83,8 +83,7 @@ public:
         no_detail_ = Buffer(ctx.device, uint64_t{capacity_} * 4, storage, false);
         luminance_ = Buffer(ctx.device, uint64_t{capacity_} * 8, storage, false);
         const uint32_t jitter = std::max(ctx.config.jitter_length, 1u);
-        phases_ = skip_ && reuse_ && jitter <= kMaxPhases &&
-                          pixels * 8 * jitter <= kMaxPhaseBytes
+        phases_ = skip_ && reuse_ && jitter <= kMaxPhases && pixels * 8 * jitter <= kMaxPhaseBytes
                       ? jitter
                       : 1u;
         // A tile is reused only once every phase image holds its still shading.
@@ -97,12 +96,12 @@ public:
         const Binding si{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding classify_bindings[] = {sb, sb, sb, si, sb, sb, sb, si};
         const Binding shade_bindings[] = {sb, sb, sb, si, sb};
-        classify_ = ctx.builtin_pipeline("cps_classify.comp", classify_bindings, sizeof(CpsPush),
-                                         true);
+        classify_ =
+            ctx.builtin_pipeline("cps_classify.comp", classify_bindings, sizeof(CpsPush), true);
         for (uint32_t list = 0; list < 3; ++list) {  // rate class = list
-            auto shade = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings,
-                                              sizeof(CpsPush),
-                                              {"CPS_RATE_CLASS=" + std::to_string(list) + "u"});
+            auto shade =
+                ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings, sizeof(CpsPush),
+                                     {"CPS_RATE_CLASS=" + std::to_string(list) + "u"});
             if (!shade) return shade.error();
             shade_[list] = std::move(*shade);
         }
@@ -110,8 +109,8 @@ public:
         if (!edge) return edge.error();
         edge_ = std::move(*edge);
         if (skip_ && host_background_) {
-            auto bg = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings,
-                                           sizeof(CpsPush), {"FOVEA_CPS_BACKGROUND"});
+            auto bg = ctx.shading_pipeline("cps_shade.shade.comp", shade_bindings, sizeof(CpsPush),
+                                           {"FOVEA_CPS_BACKGROUND"});
             if (!bg) return bg.error();
             background_ = std::move(*bg);
         }
@@ -158,8 +157,8 @@ public:
         vkCmdUpdateBuffer(f.cmd, args_.get(), 0, sizeof(init), &init);
         compute_barrier(f.cmd);
         // Last frame's shading and tile state are valid only for the directly following frame.
-        const bool history = has_history_ && f.frame_index == last_frame_ + 1 &&
-                             !f.inputs.camera_cut;
+        const bool history =
+            has_history_ && f.frame_index == last_frame_ + 1 && !f.inputs.camera_cut;
         CpsPush push = push_;
         push.tiles_x = tiles_x_;
         push.tiles_y = tiles_y_;
@@ -181,8 +180,7 @@ public:
         if (background_.get()) {
             for (uint32_t list = kBackgroundList; list < kBackgroundList + 3; ++list) {
                 push.list = list;
-                background_.bind(f.cmd, f.frame_set, background_sets_[phase], &push,
-                                 sizeof(push));
+                background_.bind(f.cmd, f.frame_set, background_sets_[phase], &push, sizeof(push));
                 vkCmdDispatchIndirect(f.cmd, args_.get(), list * 16);
             }
         }
@@ -219,7 +217,7 @@ private:
     ComputePipeline classify_, edge_, background_;
     std::array<ComputePipeline, 3> shade_;  // per host-function list (rate class)
     VkDescriptorSet classify_set_ = VK_NULL_HANDLE;
-    std::array<std::vector<VkDescriptorSet>, 3> shade_sets_;  // per list, per phase
+    std::array<std::vector<VkDescriptorSet>, 3> shade_sets_;    // per list, per phase
     std::vector<VkDescriptorSet> edge_sets_, background_sets_;  // per phase
 };
 

@@ -78,8 +78,8 @@ public:
                                      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
         list_pass_ = ctx.builtin_pipeline("kfr_list.comp", list_b, sizeof(KfrPush), false, spec);
         args_pass_ = ctx.builtin_pipeline("kfr_args.comp", list_b, 0, true);
-        auto forward = ctx.shading_pipeline("kfr_forward.shade.comp", forward_b, sizeof(KfrPush),
-                                            {}, spec);
+        auto forward =
+            ctx.shading_pipeline("kfr_forward.shade.comp", forward_b, sizeof(KfrPush), {}, spec);
         if (!forward) return forward.error();
         forward_ = std::move(*forward);
         blur_ = ctx.builtin_pipeline("kfr_blur.comp", two_images, sizeof(KfrPush), false, spec);

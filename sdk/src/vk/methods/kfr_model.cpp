@@ -76,8 +76,7 @@ double kfr_log_max_radius(int screen_w, int screen_h, Vec2d g) {
     return std::log(std::max({l1, l2, l3, l4, 2.0}));
 }
 
-KfrMap::KfrMap(int screen_w, int screen_h, int buffer_w, int buffer_h, Vec2d gaze,
-               KfrKernel kernel)
+KfrMap::KfrMap(int screen_w, int screen_h, int buffer_w, int buffer_h, Vec2d gaze, KfrKernel kernel)
     : w_(buffer_w), h_(buffer_h), kernel_(std::move(kernel)) {
     assert(screen_w > 0 && screen_h > 0 && buffer_w > 0 && buffer_h > 0);
     // A gaze off screen (tracker noise, blink) is clamped: L stays the corner distance.

@@ -13,9 +13,9 @@ namespace fovea::vk::methods {
 // power kernel x^α (non-integer α allowed) is the special case the paper's study uses.
 class KfrKernel {
 public:
-    static KfrKernel power(double alpha);                             // asserts alpha > 0
-    static Result<KfrKernel> polynomial(std::vector<double> betas);   // β_0..β_k
-    double eval(double x) const;     // K(x), x clamped to [0, 1]
+    static KfrKernel power(double alpha);                            // asserts alpha > 0
+    static Result<KfrKernel> polynomial(std::vector<double> betas);  // β_0..β_k
+    double eval(double x) const;                                     // K(x), x clamped to [0, 1]
     double inverse(double y) const;  // K^{-1}(y), y clamped to [0, 1]
     bool is_power() const { return betas_.empty(); }
     double alpha() const { return alpha_; }
@@ -55,7 +55,7 @@ public:
     double radial_scale(double u) const;
 
     double log_max_radius() const { return L_; }  // Eq. 12
-    Vec2d gaze() const { return gaze_; }           // as clamped to the screen
+    Vec2d gaze() const { return gaze_; }          // as clamped to the screen
     int buffer_width() const { return w_; }
     int buffer_height() const { return h_; }
 

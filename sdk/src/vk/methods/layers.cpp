@@ -11,11 +11,16 @@
 // the gaze anywhere on the display; 0: pure §4.3 radii).
 // The inner layer uses the frame's own jitter and no history, so the fovea is the full-rate
 // image (s = 1, same samples).
+// On the forward path (IntegrationPath::kForwardLayers) the host renders each layer's colour,
+// depth and motion itself (ViewRequest::targets) and the shade pass is skipped; the module also
+// writes full-resolution depth and motion from the layers for the post chain
+// (shaders/layers_depth_motion.comp).
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 
+#include "../host_frame.hpp"
 #include "../method.hpp"
 #include "layers_model.hpp"
 
@@ -50,25 +55,30 @@ struct LayerTable {
     int32_t pad[3];
     LayerInfoGpu layer[kMaxLayers];
 };
+struct DepthMotionPush {  // shaders/layers_depth_motion.comp
+    float jitter[4][4];
+};
 static_assert(sizeof(ShadePush) == 32 && sizeof(ResolvePush) == 48, "push layouts");
 static_assert(sizeof(LayerTable) == 16 + 48 * kMaxLayers, "std430 layout");
 
 struct LayerState {
     double s = 1.0;
-    VkExtent2D texels{};     // layer image size
-    double radius_px = 0.0;  // mask radius; 0 for the outer layer
-    std::array<Image, kGBufferImageCount> gbuffer;
+    VkExtent2D texels{};                            // layer image size
+    double radius_px = 0.0;                         // mask radius; 0 for the outer layer
+    std::array<Image, kGBufferImageCount> gbuffer;  // path 1
     GBufferRefs refs;
-    Image current;
+    HostTargetImages targets;  // path 2: the host's colour (read as `current`), depth, motion
+    Image current;             // path 1: this frame's shading
     std::array<Image, 2> history;
-    Image resolved;          // latest resolve, read by the composite (fixed binding)
-    int which = 0;           // history image holding the latest resolve
+    Image resolved;  // latest resolve, read by the composite (fixed binding)
+    int which = 0;   // history image holding the latest resolve
     bool has_history = false;
-    double origin[2]{0, 0};       // of this frame's request
-    double prev_origin[2]{0, 0};  // of the latest resolve
-    double centre[2]{0, 0};       // mask centre: the gaze of this frame's request
-    double prev_centre[2]{0, 0};  // of the latest resolve
-    float jitter[2]{0, 0};
+    double origin[2]{0, 0};          // of this frame's request
+    double prev_origin[2]{0, 0};     // of the latest resolve
+    double centre[2]{0, 0};          // mask centre: the gaze of this frame's request
+    double prev_centre[2]{0, 0};     // of the latest resolve
+    float jitter[2]{0, 0};           // of this frame's request, layer texels
+    float resolved_jitter[2]{0, 0};  // of the latest resolve (what its depth/motion hold)
     uint64_t planned_frame = UINT64_MAX;
     bool due = false;
     VkDescriptorSet shade_set = VK_NULL_HANDLE;
@@ -80,6 +90,7 @@ public:
     Result<void> init(const ModuleContext& ctx) override {
         extent_ = ctx.extent;
         jitter_length_ = ctx.config.jitter_length;
+        host_shaded_ = ctx.config.path == IntegrationPath::kForwardLayers;
         const EyeDisplay& d = ctx.config.display;
         // Measured along the longer axis (Guenter fn. 8): HMD eyes are portrait. Inner layers
         // are squares and the outer one covers the extent, so nothing else depends on it.
@@ -123,13 +134,17 @@ public:
                 st.texels = {std::max(1u, uint32_t(std::ceil(extent_.width / st.s))),
                              std::max(1u, uint32_t(std::ceil(extent_.height / st.s)))};
             }
-            for (int g = 0; g < kGBufferImageCount; ++g) {
-                st.gbuffer[std::size_t(g)] =
-                    Image(ctx.device, st.texels, kGBufferFormats[std::size_t(g)], kGBufferUsage);
-                st.refs.images[std::size_t(g)] = st.gbuffer[std::size_t(g)].ref();
+            if (host_shaded_) {
+                st.targets = HostTargetImages(ctx.device, st.texels);
+            } else {
+                for (int g = 0; g < kGBufferImageCount; ++g) {
+                    st.gbuffer[std::size_t(g)] = Image(
+                        ctx.device, st.texels, kGBufferFormats[std::size_t(g)], kGBufferUsage);
+                    st.refs.images[std::size_t(g)] = st.gbuffer[std::size_t(g)].ref();
+                }
+                st.refs.extent = st.texels;
+                st.current = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
             }
-            st.refs.extent = st.texels;
-            st.current = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
             for (Image& h : st.history)
                 h = Image(ctx.device, st.texels, kColorFormat, VK_IMAGE_USAGE_STORAGE_BIT);
             st.resolved = Image(ctx.device, st.texels, kColorFormat,
@@ -137,18 +152,26 @@ public:
         }
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-        const Binding shade_b[] = {img, img, img, img, img, img, img};
+        // The layer's G-buffer images (bindings 0..kGBufferImageCount-1), then its colour.
+        std::array<Binding, kGBufferImageCount + 1> shade_b{};
+        shade_b.fill(img);
         const Binding resolve_b[] = {img, img, img, img, img};
         const Binding tex{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
         const Binding composite_b[] = {img, tex, tex, tex, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
-        auto shade = ctx.shading_pipeline("layers_shade.shade.comp", shade_b, sizeof(ShadePush));
-        if (!shade) return shade.error();
-        shade_ = std::move(*shade);
+        if (!host_shaded_) {
+            auto shade =
+                ctx.shading_pipeline("layers_shade.shade.comp", shade_b, sizeof(ShadePush));
+            if (!shade) return shade.error();
+            shade_ = std::move(*shade);
+        }
         resolve_ =
             ctx.builtin_pipeline("layers_resolve.comp", resolve_b, sizeof(ResolvePush), false);
         const uint32_t spec[] = {uint32_t(count_)};  // LAYERS: straight-line composite code
         composite_ = ctx.builtin_pipeline("layers_composite.comp", composite_b, 0, true, spec);
-        table_ = Buffer(ctx.device, sizeof(LayerTable), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+        // Written by vkCmdUpdateBuffer in record(): no host copy per frame in flight.
+        table_ =
+            Buffer(ctx.device, sizeof(LayerTable),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
 
         const VkDevice dev = ctx.device.device();
         // The composite upsamples the coarser layers with the sampler's bilinear filter: one
@@ -157,16 +180,23 @@ public:
         sampler_ = LinearClampSampler(ctx.device);
         for (int i = 0; i < count_; ++i) {
             LayerState& st = layers_[std::size_t(i)];
-            st.shade_set = shade_.allocate_set();
-            DescriptorWriter w(dev, st.shade_set);
-            for (uint32_t g = 0; g < uint32_t(kGBufferImageCount); ++g)
-                w.storage_image(g, st.gbuffer[g].view());
-            w.storage_image(6, st.current.view()).commit();
+            if (!host_shaded_) {
+                st.shade_set = shade_.allocate_set();
+                DescriptorWriter w(dev, st.shade_set);
+                for (uint32_t g = 0; g < uint32_t(kGBufferImageCount); ++g)
+                    w.storage_image(g, st.gbuffer[g].view());
+                w.storage_image(uint32_t(kGBufferImageCount), st.current.view()).commit();
+            }
+            const VkImageView current =
+                host_shaded_ ? st.targets.refs().color.view : st.current.view();
+            const VkImageView motion =
+                host_shaded_ ? st.targets.refs().motion.view
+                             : st.gbuffer[static_cast<int>(GBufferImage::kMotion)].view();
             for (int k = 0; k < 2; ++k) {
                 st.resolve_sets[std::size_t(k)] = resolve_.allocate_set();
                 DescriptorWriter(dev, st.resolve_sets[std::size_t(k)])
-                    .storage_image(0, st.current.view())
-                    .storage_image(1, st.gbuffer[static_cast<int>(GBufferImage::kMotion)].view())
+                    .storage_image(0, current)
+                    .storage_image(1, motion)
                     .storage_image(2, st.history[std::size_t(k)].view())
                     .storage_image(3, st.history[std::size_t(1 - k)].view())
                     .storage_image(4, st.resolved.view())
@@ -182,10 +212,13 @@ public:
                             sampler_.get());
         w.sampled_image(3, layers_[std::size_t(count_ - 1)].resolved.view(), sampler_.get());
         w.storage_buffer(4, table_).commit();
+        if (host_shaded_) init_depth_motion(ctx);
         return {};
     }
 
     bool uses_full_gbuffer() const override { return false; }
+    uint64_t host_rendered_samples() const override { return host_samples_; }
+    bool has_views() const override { return true; }
 
     std::vector<ViewRequest> views(uint64_t frame_index, const ResolvedGaze& gaze) override {
         plan_frame(frame_index, gaze);
@@ -195,7 +228,11 @@ public:
             if (!st.due) continue;
             ViewRequest v;
             v.name = "layer" + std::to_string(i);
-            v.gbuffer = st.refs;
+            v.extent = st.texels;
+            if (host_shaded_)
+                v.targets = st.targets.refs();
+            else
+                v.gbuffer = st.refs;
             const double w = st.texels.width * st.s;
             const double h = st.texels.height * st.s;
             v.crop = {float(st.origin[0] / extent_.width), float(st.origin[1] / extent_.height),
@@ -209,9 +246,14 @@ public:
 
     void record(const MethodFrame& f) override {
         plan_frame(f.frame_index, f.gaze);  // no-op when views() already planned this frame
+        host_samples_ = 0;
         for (int i = 0; i < count_; ++i) {
             LayerState& st = layers_[std::size_t(i)];
             if (!st.due) continue;
+            if (host_shaded_) {  // the host rendered this layer: count its texels
+                host_samples_ += uint64_t{st.texels.width} * st.texels.height;
+                continue;
+            }
             ShadePush sp{};
             sp.origin[0] = float(st.origin[0]);
             sp.origin[1] = float(st.origin[1]);
@@ -248,6 +290,8 @@ public:
             st.prev_origin[1] = st.origin[1];
             st.prev_centre[0] = st.centre[0];
             st.prev_centre[1] = st.centre[1];
+            st.resolved_jitter[0] = st.jitter[0];
+            st.resolved_jitter[1] = st.jitter[1];
         }
         LayerTable table{};
         table.count = count_;
@@ -264,10 +308,22 @@ public:
             g.c[0] = float(st.prev_centre[0]);
             g.c[1] = float(st.prev_centre[1]);
         }
-        std::memcpy(table_.data(), &table, sizeof(table));  // one frame in flight
+        vkCmdUpdateBuffer(f.cmd, table_.get(), 0, sizeof(table), &table);
         compute_barrier(f.cmd);
         composite_.bind(f.cmd, f.frame_set, composite_set_);
         vkCmdDispatch(f.cmd, div_up(extent_.width, 8), div_up(extent_.height, 8), 1);
+        if (host_shaded_ && f.depth_out) {
+            // Each layer's jitter as of its latest render (the resolved image the composite
+            // reads), in layer texels.
+            DepthMotionPush dp{};
+            for (int i = 0; i < count_; ++i) {
+                dp.jitter[i][0] = layers_[std::size_t(i)].resolved_jitter[0];
+                dp.jitter[i][1] = layers_[std::size_t(i)].resolved_jitter[1];
+            }
+            if (depth_motion_set_ == VK_NULL_HANDLE) write_depth_motion_set(*f.depth_out);
+            depth_motion_.bind(f.cmd, f.frame_set, depth_motion_set_, &dp, sizeof(dp));
+            vkCmdDispatch(f.cmd, div_up(extent_.width, 8), div_up(extent_.height, 8), 1);
+        }
     }
 
     const methods::LayerPlan& plan() const { return plan_; }
@@ -309,15 +365,46 @@ private:
             }
             if (i == 0) {  // the frame's own jitter: the fovea matches the full-rate frame
                 halton_jitter(frame, jitter_length_, st.jitter[0], st.jitter[1]);
-            } else {       // decorrelated per layer (Guenter Fig. 6: ±0.5 layer texel)
+            } else {  // decorrelated per layer (Guenter Fig. 6: ±0.5 layer texel)
                 halton_jitter(frame + 3 * uint64_t(i), std::max(jitter_length_, 8u), st.jitter[0],
                               st.jitter[1]);
             }
         }
     }
 
+    void init_depth_motion(const ModuleContext& ctx) {
+        const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        const Binding b[] = {
+            img, img, img, img, img, img, img, img, img, img, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+        const uint32_t spec[] = {uint32_t(count_)};
+        depth_motion_ = ctx.builtin_pipeline("layers_depth_motion.comp", b, sizeof(DepthMotionPush),
+                                             true, spec);
+        device_ = ctx.device.device();
+    }
+
+    // Full-resolution outputs are the Foveator's; they never change, so one set serves.
+    void write_depth_motion_set(const HostTargets& out) {
+        depth_motion_set_ = depth_motion_.allocate_set();
+        DescriptorWriter w(device_, depth_motion_set_);
+        for (int i = 0; i < 3; ++i) {  // unused inner slots repeat the outer layer (valid image)
+            const HostTargets& t =
+                layers_[std::size_t(i < count_ - 1 ? i : count_ - 1)].targets.refs();
+            w.storage_image(uint32_t(i), t.depth.view)
+                .storage_image(uint32_t(4 + i), t.motion.view);
+        }
+        const HostTargets& outer = layers_[std::size_t(count_ - 1)].targets.refs();
+        w.storage_image(3, outer.depth.view).storage_image(7, outer.motion.view);
+        w.storage_image(8, out.depth.view).storage_image(9, out.motion.view);
+        w.storage_buffer(10, table_).commit();
+    }
+
     VkExtent2D extent_{};
     uint32_t jitter_length_ = 8;
+    bool host_shaded_ = false;   // IntegrationPath::kForwardLayers
+    uint64_t host_samples_ = 0;  // layer texels the host rendered this frame
+    VkDevice device_ = VK_NULL_HANDLE;
+    ComputePipeline depth_motion_;
+    VkDescriptorSet depth_motion_set_ = VK_NULL_HANDLE;
     bool half_rate_ = false;
     float alpha_ = 0.5f;
     methods::LayerPlan plan_;

@@ -15,10 +15,10 @@ namespace fovea::vk::methods {
 // for a portrait display width and resolution are those of the vertical axis), so that
 // aspect = shorter / longer <= 1 for every display.
 struct LayerDisplay {
-    int resolution_px = 1920;   // D*: resolution along the longer axis
-    double width_cm = 51.0;     // W*: size along the longer axis
-    double distance_cm = 59.0;  // V*
-    double aspect = 9.0 / 16.0; // α*
+    int resolution_px = 1920;    // D*: resolution along the longer axis
+    double width_cm = 51.0;      // W*: size along the longer axis
+    double distance_cm = 59.0;   // V*
+    double aspect = 9.0 / 16.0;  // α*
 };
 
 // A display of `width_px` x `height_px` pixels spanning `fov_h_deg` x `fov_v_deg` (symmetric
@@ -39,13 +39,13 @@ LayerDisplay acuity_matched_display(double fov_deg, double aspect, double omega0
 double inner_radius_for_fovea(const LayerDisplay& d, double fovea_deg, double reach);
 
 struct LayerOptions {
-    int layer_count = 3;                // n, 2..4
-    double slope = 0.022;               // m (quality B; quality A is 0.0275)
-    double omega0_deg = 1.0 / 48.0;     // foveal MAR
-    int steps = 240;                    // discretisation of (0, e*) for the brute-force search
-    bool half_rate_outer = false;       // w_1 = 1, w_i = 1/2 for i > 1 (staggered updates)
-    std::optional<double> fixed_s2;     // the "n = 3*" variant of Fig. 12: s_2 forced (e.g. 2)
-    double min_inner_deg = 0.0;         // e_1 >= this (keep a full-rate fovea; 0 = pure §4.3)
+    int layer_count = 3;             // n, 2..4
+    double slope = 0.022;            // m (quality B; quality A is 0.0275)
+    double omega0_deg = 1.0 / 48.0;  // foveal MAR
+    int steps = 240;                 // discretisation of (0, e*) for the brute-force search
+    bool half_rate_outer = false;    // w_1 = 1, w_i = 1/2 for i > 1 (staggered updates)
+    std::optional<double> fixed_s2;  // the "n = 3*" variant of Fig. 12: s_2 forced (e.g. 2)
+    double min_inner_deg = 0.0;      // e_1 >= this (keep a full-rate fovea; 0 = pure §4.3)
 };
 
 struct Layer {

@@ -11,11 +11,31 @@ namespace fovea::vk {
 
 std::span<const MethodEntry> method_registry() {
     static const MethodEntry kMethods[] = {
-        {"full", [] { std::unique_ptr<Method> make_full_method(); return make_full_method(); }},
-        {"cps", [] { std::unique_ptr<Method> make_cps_method(); return make_cps_method(); }},
-        {"layers", [] { std::unique_ptr<Method> make_layers_method(); return make_layers_method(); }},
-        {"adaptive", [] { std::unique_ptr<Method> make_adaptive_method(); return make_adaptive_method(); }},
-        {"kfr", [] { std::unique_ptr<Method> make_kfr_method(); return make_kfr_method(); }},
+        {"full",
+         [] {
+             std::unique_ptr<Method> make_full_method();
+             return make_full_method();
+         }},
+        {"cps",
+         [] {
+             std::unique_ptr<Method> make_cps_method();
+             return make_cps_method();
+         }},
+        {"layers",
+         [] {
+             std::unique_ptr<Method> make_layers_method();
+             return make_layers_method();
+         }},
+        {"adaptive",
+         [] {
+             std::unique_ptr<Method> make_adaptive_method();
+             return make_adaptive_method();
+         }},
+        {"kfr",
+         [] {
+             std::unique_ptr<Method> make_kfr_method();
+             return make_kfr_method();
+         }},
     };
     return kMethods;
 }

@@ -19,8 +19,8 @@ float half_bits_to_float(std::uint16_t h) {
         const float f = float(man) / 16777216.0f;
         return sign ? -f : f;
     }
-    const std::uint32_t b = exp == 31 ? (sign | 0x7f800000u | man << 13)
-                                      : (sign | (exp - 15 + 127) << 23 | man << 13);
+    const std::uint32_t b =
+        exp == 31 ? (sign | 0x7f800000u | man << 13) : (sign | (exp - 15 + 127) << 23 | man << 13);
     float f;
     std::memcpy(&f, &b, 4);
     return f;
@@ -79,7 +79,8 @@ std::vector<float> RecoveryCounter::luma(const Image& rgb) const {
     std::vector<float> v;
     for (int j = 0; j < y.height; ++j)
         for (int i = 0; i < y.width; ++i)
-            if (std::hypot(float(i) + 0.5f - cx_, float(j) + 0.5f - cy_) < r_) v.push_back(y.at(i, j));
+            if (std::hypot(float(i) + 0.5f - cx_, float(j) + 0.5f - cy_) < r_)
+                v.push_back(y.at(i, j));
     return v;
 }
 

@@ -23,10 +23,10 @@ Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int h
 // analytic scene: stability_model.hpp, saccade_model.hpp), for when the bench has no per-frame
 // read-back yet. Deterministic; takes ~10 s of CPU.
 struct ModelPostFigures {
-    double atd = 0;                      // cps + TAA, slow pan
-    double atd_no_taa = 0;               // cps, slow pan
-    double atd_full_taa = 0;             // full rate + TAA, slow pan
-    int saccade_recovery_frames = 0;     // 20° jump, 1/255, saccade-aware α
+    double atd = 0;                   // cps + TAA, slow pan
+    double atd_no_taa = 0;            // cps, slow pan
+    double atd_full_taa = 0;          // full rate + TAA, slow pan
+    int saccade_recovery_frames = 0;  // 20° jump, 1/255, saccade-aware α
     int saccade_recovery_frames_no_term = 0;
 };
 ModelPostFigures model_post_figures();
@@ -48,7 +48,8 @@ private:
 // and the converged image; frames() is the 1-based index of the first within `tolerance`.
 class RecoveryCounter {
 public:
-    RecoveryCounter(float centre_x, float centre_y, float radius_px, float tolerance = 1.0f / 255.0f)
+    RecoveryCounter(float centre_x, float centre_y, float radius_px,
+                    float tolerance = 1.0f / 255.0f)
         : cx_(centre_x), cy_(centre_y), r_(radius_px), tol_(tolerance) {}
     void add_frame(const Image& linear_rgb) { frames_.push_back(luma(linear_rgb)); }
     // Returns frames to recovery, or frames added + 1 when never within tolerance.

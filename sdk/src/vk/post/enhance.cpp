@@ -25,14 +25,13 @@ public:
     Result<void> init(const ModuleContext& ctx) override {
         device_ = ctx.device.device();
         const double rate = ctx.option_number("contrast.blur_rate", 0.34);
-        push_.f_e = float(ctx.option_number(
-            "contrast.fe", post::calibration_for_blur_rate(float(rate)).f_e));
+        push_.f_e = float(
+            ctx.option_number("contrast.fe", post::calibration_for_blur_rate(float(rate)).f_e));
         if (!(push_.f_e >= 0.0f && push_.f_e < 10.0f))
             return make_error("contrast.fe must be in [0, 10)");
         // Only the levels I_avg can read: S_t <= 1 bounds σ and so LOD = log2(1 + √2σ) (< 1.4).
         const float max_lod = post::blur_lod(post::blur_sigma_for_rate(1.0f));
-        const uint32_t needed =
-            std::min(kMaxPyramidLevels, uint32_t(std::ceil(max_lod)) + 1);
+        const uint32_t needed = std::min(kMaxPyramidLevels, uint32_t(std::ceil(max_lod)) + 1);
         uint32_t levels = 1;
         for (uint32_t w = ctx.extent.width, h = ctx.extent.height;
              levels < needed && (w > 1 || h > 1); ++levels) {
@@ -50,8 +49,8 @@ public:
         const Binding con_b[] = {img, img, tex, img};
         luma_ = ctx.builtin_pipeline("enhance_luma.comp", luma_b, 0, false);
         reduce_ = ctx.builtin_pipeline("enhance_reduce.comp", red_b, 0, false);
-        contrast_ = ctx.builtin_pipeline("enhance_contrast.comp", con_b, sizeof(ContrastPush),
-                                         false);
+        contrast_ =
+            ctx.builtin_pipeline("enhance_contrast.comp", con_b, sizeof(ContrastPush), false);
         // One reduce set per level; the pipeline's pool holds 8 sets.
         for (uint32_t l = 0; l + 1 < levels; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();

@@ -86,8 +86,10 @@ float approx_erf(float x) {
     const float s = x < 0 ? -1.0f : 1.0f;
     x = std::fabs(x);
     const float t = 1.0f / (1.0f + 0.3275911f * x);
-    const float y = 1.0f - (((((1.061405429f * t - 1.453152027f) * t) + 1.421413741f) * t -
-                             0.284496736f) * t + 0.254829592f) * t * std::exp(-x * x);
+    const float y =
+        1.0f - (((((1.061405429f * t - 1.453152027f) * t) + 1.421413741f) * t - 0.284496736f) * t +
+                0.254829592f) *
+                   t * std::exp(-x * x);
     return s * y;
 }
 
@@ -147,7 +149,8 @@ MipChain gaussian_pyramid(const Image& luma, int levels) {
                 float acc = 0.0f;
                 for (int j = 0; j < 5; ++j) {
                     float row = 0.0f;
-                    for (int i = 0; i < 5; ++i) row += kW[i] * src.fetch(2 * x + i - 2, 2 * y + j - 2);
+                    for (int i = 0; i < 5; ++i)
+                        row += kW[i] * src.fetch(2 * x + i - 2, 2 * y + j - 2);
                     acc += kW[j] * row;
                 }
                 dst.at(x, y) = acc;
@@ -279,8 +282,10 @@ Image noise_parameters(const NoiseInputs& in, const NoiseParams& p) {
     for (int y = 0; y < go.height; ++y) {
         for (int x = 0; x < go.width; ++x) {
             auto f = [&](int dx, int dy) { return go.fetch(x + dx, y + dy); };
-            grad.at(x, y, 0) = (f(1, -1) + 2 * f(1, 0) + f(1, 1)) - (f(-1, -1) + 2 * f(-1, 0) + f(-1, 1));
-            grad.at(x, y, 1) = (f(-1, 1) + 2 * f(0, 1) + f(1, 1)) - (f(-1, -1) + 2 * f(0, -1) + f(1, -1));
+            grad.at(x, y, 0) =
+                (f(1, -1) + 2 * f(1, 0) + f(1, 1)) - (f(-1, -1) + 2 * f(-1, 0) + f(-1, 1));
+            grad.at(x, y, 1) =
+                (f(-1, 1) + 2 * f(0, 1) + f(1, 1)) - (f(-1, -1) + 2 * f(0, -1) + f(1, -1));
         }
     }
 
@@ -296,8 +301,8 @@ Image noise_parameters(const NoiseInputs& in, const NoiseParams& p) {
             const float py = float(y) + 0.5f;
             float k = 0.0f;
             if (!band.empty()) {
-                const float lp = std::min(laplacian_level_for_blur(s, p.attenuation_p),
-                                          float(lap.size() - 2));
+                const float lp =
+                    std::min(laplacian_level_for_blur(s, p.attenuation_p), float(lap.size() - 2));
                 const int l0 = int(std::floor(lp));
                 const float t = lp - float(l0);
                 constexpr float kTiny = 1e-6f;  // log-domain blend of |L| needs > 0
@@ -391,7 +396,8 @@ Image synthesize_gabor_noise(const Image& params, const NoiseParams& p) {
                         band.sigma_n = 0.5f * s_f * (band.mu_n - std::log(band.f_low));
                         const float f = sample_band_frequency(band, u);
                         const float om = params.at(qx, qy, 1);
-                        const float phase = 2.0f * kPi * f * (dx * std::cos(om) + dy * std::sin(om));
+                        const float phase =
+                            2.0f * kPi * f * (dx * std::cos(om) + dy * std::sin(om));
                         acc += amp * wgt * std::exp(-kPi * a * a * d2) * std::cos(phase);
                     }
                 }

@@ -33,10 +33,10 @@ ThibosLimits thibos_limits(float eccentricity_deg);
 // ---- noise frequency band (Tariq Eqs. 1–5) ------------------------------------------------------
 
 struct NoiseBand {
-    float f_low = 0;   // F_L = max(T_L(e), 3/(2πσ)), cycles per pixel
-    float f_high = 0;  // F_H = min(T_H(e), Nyquist = 0.5)
-    float mu_n = 0;    // log-domain mean
-    float sigma_n = 0; // log-domain standard deviation (scaled by s_f)
+    float f_low = 0;    // F_L = max(T_L(e), 3/(2πσ)), cycles per pixel
+    float f_high = 0;   // F_H = min(T_H(e), Nyquist = 0.5)
+    float mu_n = 0;     // log-domain mean
+    float sigma_n = 0;  // log-domain standard deviation (scaled by s_f)
     bool empty() const { return !(f_high > f_low); }
 };
 NoiseBand noise_band(float eccentricity_deg, float sigma_px, float pixels_per_degree, float s_f);

@@ -60,10 +60,9 @@ inline Image reduce_box2(const Image& src) {
     for (int y = 0; y < dst.height; ++y) {
         for (int x = 0; x < dst.width; ++x) {
             for (int c = 0; c < src.channels; ++c) {
-                dst.at(x, y, c) = 0.25f * (src.fetch(2 * x, 2 * y, c) +
-                                           src.fetch(2 * x + 1, 2 * y, c) +
-                                           src.fetch(2 * x, 2 * y + 1, c) +
-                                           src.fetch(2 * x + 1, 2 * y + 1, c));
+                dst.at(x, y, c) =
+                    0.25f * (src.fetch(2 * x, 2 * y, c) + src.fetch(2 * x + 1, 2 * y, c) +
+                             src.fetch(2 * x, 2 * y + 1, c) + src.fetch(2 * x + 1, 2 * y + 1, c));
             }
         }
     }
@@ -141,8 +140,8 @@ inline float half_from_bits(uint16_t h) {
         f = float(man) / 16777216.0f;
         return sign ? -f : f;
     }
-    const uint32_t b = exp == 31 ? (sign | 0x7f800000u | man << 13)
-                                 : (sign | (exp - 15 + 127) << 23 | man << 13);
+    const uint32_t b =
+        exp == 31 ? (sign | 0x7f800000u | man << 13) : (sign | (exp - 15 + 127) << 23 | man << 13);
     std::memcpy(&f, &b, 4);
     return f;
 }

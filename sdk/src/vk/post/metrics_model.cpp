@@ -88,8 +88,7 @@ int EccentricityBands::band_of(float px, float py) const {
     return -1;
 }
 
-WaveletStats haar_wavelet_analysis(const Image& luma, const EccentricityBands& bands,
-                                   int levels) {
+WaveletStats haar_wavelet_analysis(const Image& luma, const EccentricityBands& bands, int levels) {
     WaveletStats s;
     s.mean_energy.assign(std::size_t(levels), std::vector<double>(bands.count(), 0.0));
     s.max_energy.assign(std::size_t(levels), std::vector<double>(bands.count(), 0.0));
@@ -115,7 +114,8 @@ WaveletStats haar_wavelet_analysis(const Image& luma, const EccentricityBands& b
                 const double hl = 0.5 * (a + b - c - d);
                 const double hh = 0.5 * (a - b - c + d);
                 const double e = lh * lh + hl * hl + hh * hh;
-                const int band = bands.band_of((float(x) + 0.5f) * scale, (float(y) + 0.5f) * scale);
+                const int band =
+                    bands.band_of((float(x) + 0.5f) * scale, (float(y) + 0.5f) * scale);
                 if (band < 0) continue;
                 mean[std::size_t(band)] += e;
                 mx[std::size_t(band)] = std::max(mx[std::size_t(band)], e);
@@ -136,8 +136,8 @@ std::vector<double> rms_contrast_by_eccentricity(const Image& luma, const Eccent
     std::vector<std::size_t> n(bands.count(), 0);
     for (int ty = 0; ty + tile <= luma.height; ty += tile) {
         for (int tx = 0; tx + tile <= luma.width; tx += tile) {
-            const int band = bands.band_of(float(tx) + 0.5f * float(tile),
-                                           float(ty) + 0.5f * float(tile));
+            const int band =
+                bands.band_of(float(tx) + 0.5f * float(tile), float(ty) + 0.5f * float(tile));
             if (band < 0) continue;
             double m1 = 0, m2 = 0;
             for (int y = ty; y < ty + tile; ++y) {

@@ -15,20 +15,19 @@ namespace fovea::vk::post {
 Image tonemapped_luminance(const Image& rgb);
 
 struct AtdResult {
-    double mean = 0;          // mean |Y_t − back-projected Y_{t−1}|, in tone-mapped units [0, 1]
-    std::size_t pixels = 0;   // pixels averaged
+    double mean = 0;         // mean |Y_t − back-projected Y_{t−1}|, in tone-mapped units [0, 1]
+    std::size_t pixels = 0;  // pixels averaged
     std::size_t skipped = 0;  // back-projection left the screen or a value was not finite
 };
 // motion: 2 channels, pixels, current − previous position; nullptr = static camera.
-AtdResult average_temporal_difference(const Image& prev_y, const Image& cur_y,
-                                      const Image* motion);
+AtdResult average_temporal_difference(const Image& prev_y, const Image& cur_y, const Image* motion);
 
 struct EccentricityBands {
-    float gaze_x = 0;             // pixels
+    float gaze_x = 0;  // pixels
     float gaze_y = 0;
     float pixels_per_degree = 40;
     std::vector<float> edges_deg{0, 5, 10, 20, 30, 45, 90};  // band b = [edges[b], edges[b+1])
-    int band_of(float px, float py) const;  // −1 outside every band
+    int band_of(float px, float py) const;                   // −1 outside every band
     std::size_t count() const { return edges_deg.size() - 1; }
 };
 

@@ -62,7 +62,8 @@ public:
         params_.impulses_per_kernel = impulses;
         params_.s_k = float(ctx.option_number("noise.sk", cal.s_k));
         params_.s_f = float(ctx.option_number("noise.sf", cal.s_f));
-        if (!(params_.s_k >= 0.0f && params_.s_k < 1e3f)) return make_error("noise.sk out of range");
+        if (!(params_.s_k >= 0.0f && params_.s_k < 1e3f))
+            return make_error("noise.sk out of range");
         if (!(params_.s_f > 0.0f && params_.s_f < 1e3f)) return make_error("noise.sf out of range");
 
         const float r = post::gabor_radius(params_.kernel_bandwidth);
@@ -89,10 +90,10 @@ public:
         field_ = Image(ctx.device, {std::max(1u, e.width >> 3), std::max(1u, e.height >> 3)},
                        VK_FORMAT_R32G32B32A32_SFLOAT, usage);
         const VkDeviceSize cells = VkDeviceSize(push_.cells_x) * VkDeviceSize(push_.cells_y);
-        impulses_ = Buffer(ctx.device, cells * per_cell * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                           false);
-        amplitudes_ = Buffer(ctx.device, cells * per_cell * 4,
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        impulses_ =
+            Buffer(ctx.device, cells * per_cell * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        amplitudes_ =
+            Buffer(ctx.device, cells * per_cell * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
         cell_peaks_ = Buffer(ctx.device, cells * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
@@ -105,8 +106,8 @@ public:
         luma_ = ctx.builtin_pipeline("enhance_luma.comp", luma_b, 0, false);
         reduce_ = ctx.builtin_pipeline("enhance_reduce.comp", red_b, 0, false);
         gradient_ = ctx.builtin_pipeline("enhance_noise_gradient.comp", grad_b, 0, false);
-        impulse_ = ctx.builtin_pipeline("enhance_noise_impulses.comp", imp_b, sizeof(NoisePush),
-                                        false);
+        impulse_ =
+            ctx.builtin_pipeline("enhance_noise_impulses.comp", imp_b, sizeof(NoisePush), false);
         apply_ = ctx.builtin_pipeline("enhance_noise_apply.comp", app_b, sizeof(NoisePush), false);
         for (uint32_t l = 0; l + 1 < kPyramidLevels; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();

@@ -12,8 +12,8 @@ Image render_cps(const Image& sharp, float gx, float gy, const SaccadeExperiment
     rate = Image(w, h, 1);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const float ecc = std::hypot(float(x) + 0.5f - gx, float(y) + 0.5f - gy) /
-                              e.pixels_per_degree;
+            const float ecc =
+                std::hypot(float(x) + 0.5f - gx, float(y) + 0.5f - gy) / e.pixels_per_degree;
             const int block = ecc < e.fovea_deg ? 1 : (ecc < e.periphery_deg ? 2 : 4);
             rate.at(x, y) = block == 1 ? 0.0f : (block == 2 ? 0.5f : 1.0f);
             // One shade per coarse pixel: the block's centre sample, replicated.
@@ -44,11 +44,11 @@ SaccadeRecovery measure_saccade_recovery(const Image& sharp, const SaccadeExperi
         std::vector<float> v;
         for (int y = 0; y < sharp.height; ++y) {
             for (int x = 0; x < sharp.width; ++x) {
-                const float ecc = std::hypot(float(x) + 0.5f - bx, float(y) + 0.5f - cy) /
-                                  e.pixels_per_degree;
+                const float ecc =
+                    std::hypot(float(x) + 0.5f - bx, float(y) + 0.5f - cy) / e.pixels_per_degree;
                 if (ecc >= e.fovea_deg) continue;
-                v.push_back(luma709(h.colour.at(x, y, 0), h.colour.at(x, y, 1),
-                                    h.colour.at(x, y, 2)));
+                v.push_back(
+                    luma709(h.colour.at(x, y, 0), h.colour.at(x, y, 1), h.colour.at(x, y, 2)));
             }
         }
         return v;

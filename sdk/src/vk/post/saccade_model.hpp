@@ -13,8 +13,8 @@ namespace fovea::vk::post {
 struct SaccadeExperiment {
     float pixels_per_degree = 4.0f;
     float jump_deg = 20.0f;
-    float fovea_deg = 5.0f;     // S = 0 inside
-    float periphery_deg = 15.0f; // S = 1 beyond; 0.5 in between
+    float fovea_deg = 5.0f;       // S = 0 inside
+    float periphery_deg = 15.0f;  // S = 1 beyond; 0.5 in between
     float tolerance = 1.0f / 255.0f;
     int settle_frames = 80;     // frames under gaze A before the jump
     int converge_frames = 160;  // frames under gaze B that define "converged"

@@ -19,8 +19,8 @@ Vec3 scene(float x, float y) {
 }
 
 Image render(const StabilityExperiment& e, int frame, bool coarse, Image& rate) {
-    const Jitter j = e.jitter_length ? halton_jitter(std::uint64_t(frame), e.jitter_length)
-                                     : Jitter{};
+    const Jitter j =
+        e.jitter_length ? halton_jitter(std::uint64_t(frame), e.jitter_length) : Jitter{};
     const float off = e.pan_px_per_frame * float(frame);
     const float gx = 0.5f * float(e.width);
     const float gy = 0.5f * float(e.height);
@@ -60,8 +60,8 @@ double run(const StabilityExperiment& e, bool coarse, bool taa, const TaaParams&
     for (int f = 0; f < e.frames; ++f) {
         Image rate;
         const Image frame = render(e, f, coarse, rate);
-        const Image out = taa ? taa_resolve({&frame, &depth, &motion, &rate, false}, hist, params)
-                              : frame;
+        const Image out =
+            taa ? taa_resolve({&frame, &depth, &motion, &rate, false}, hist, params) : frame;
         Image y = tonemapped_luminance(out);
         if (f >= e.warmup && !prev_y.empty()) {
             sum += average_temporal_difference(prev_y, y, &motion).mean;

@@ -14,17 +14,17 @@ struct StabilityExperiment {
     int width = 128;
     int height = 96;
     int frames = 96;
-    int warmup = 32;                  // frames before ATD is accumulated (TAA convergence)
-    float pan_px_per_frame = 0.37f;   // slow camera pan
+    int warmup = 32;                 // frames before ATD is accumulated (TAA convergence)
+    float pan_px_per_frame = 0.37f;  // slow camera pan
     std::uint32_t jitter_length = 8;
-    SaccadeExperiment rates;          // eccentricity → rate, pixels per degree
+    SaccadeExperiment rates;  // eccentricity → rate, pixels per degree
 };
 
 struct StabilityResult {
-    double atd_cps = 0;           // coarse shading, no TAA
-    double atd_cps_taa = 0;       // coarse shading + TAA          (Fovea's "atd")
-    double atd_full_taa = 0;      // full-rate reference + TAA
-    double atd_full = 0;          // full rate, no TAA
+    double atd_cps = 0;       // coarse shading, no TAA
+    double atd_cps_taa = 0;   // coarse shading + TAA          (Fovea's "atd")
+    double atd_full_taa = 0;  // full-rate reference + TAA
+    double atd_full = 0;      // full rate, no TAA
 };
 
 StabilityResult measure_temporal_stability(const StabilityExperiment& e, const TaaParams& taa);

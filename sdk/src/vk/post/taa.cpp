@@ -89,10 +89,9 @@ public:
         tiles_x_ = div_up(e.width, kTile);
         tiles_y_ = div_up(e.height, kTile);
         const uint64_t capacity = uint64_t{tiles_x_} * tiles_y_;
-        tile_args_ = Buffer(ctx.device, sizeof(TileArgs),
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                            false);
+        tile_args_ =
+            Buffer(ctx.device, sizeof(TileArgs),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false);
         tile_lists_ = Buffer(ctx.device, capacity * kTileLists * 4,
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
 
@@ -135,10 +134,9 @@ public:
         // Last frame's resolve read these arguments (indirect stage) and the depth history
         // overwritten below before they are reset.
         VkMemoryBarrier war{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        vkCmdPipelineBarrier(f.cmd,
-                             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
-                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &war, 0, nullptr, 0, nullptr);
+        vkCmdPipelineBarrier(
+            f.cmd, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &war, 0, nullptr, 0, nullptr);
         vkCmdUpdateBuffer(f.cmd, tile_args_.get(), 0, sizeof(args), &args);
         // Next frame's depth history is this frame's depth: a copy, not a store per pixel in
         // the resolve (a store costs lavapipe about as much as 4 loads); the resolve sanitizes

@@ -127,8 +127,8 @@ MipChain taa_moment_chain(const Image& colour, int levels, bool half_storage) {
     Image ycocg(colour.width, colour.height, 3);
     for (int y = 0; y < colour.height; ++y) {
         for (int x = 0; x < colour.width; ++x) {
-            const Vec3 t = tonemap_forward({colour.at(x, y, 0), colour.at(x, y, 1),
-                                            colour.at(x, y, 2)});
+            const Vec3 t =
+                tonemap_forward({colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2)});
             const Vec3 q = rgb_to_ycocg(t);
             ycocg.at(x, y, 0) = q.x;
             ycocg.at(x, y, 1) = q.y;
@@ -187,15 +187,15 @@ Image taa_resolve(const TaaFrame& frame, TaaHistory& history, const TaaParams& p
     const int h = colour.height;
     const MipChain chain = taa_moment_chain(colour, params.moment_levels, params.half_storage);
 
-    const bool have_history = history.valid && !frame.camera_cut &&
-                              history.colour.width == w && history.colour.height == h;
+    const bool have_history = history.valid && !frame.camera_cut && history.colour.width == w &&
+                              history.colour.height == h;
     Image next(w, h, 4);
     Image next_depth(w, h, 1);
     Image out(w, h, 3);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const Vec3 cur_t = tonemap_forward({colour.at(x, y, 0), colour.at(x, y, 1),
-                                                colour.at(x, y, 2)});
+            const Vec3 cur_t =
+                tonemap_forward({colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2)});
             const Vec3 cur_q = rgb_to_ycocg(cur_t);
             const float s_raw = frame.rate ? frame.rate->at(x, y) : 0.0f;
             const float s_cur = std::isfinite(s_raw) ? std::clamp(s_raw, 0.0f, 1.0f) : 1.0f;
@@ -250,8 +250,8 @@ Image taa_resolve(const TaaFrame& frame, TaaHistory& history, const TaaParams& p
             next.at(x, y, 2) = store(t.z, half);
             next.at(x, y, 3) = store(blended_s, half);
             next_depth.at(x, y) = d_cur;
-            const Vec3 lin = tonemap_inverse({next.at(x, y, 0), next.at(x, y, 1),
-                                              next.at(x, y, 2)});
+            const Vec3 lin =
+                tonemap_inverse({next.at(x, y, 0), next.at(x, y, 1), next.at(x, y, 2)});
             out.at(x, y, 0) = lin.x;
             out.at(x, y, 1) = lin.y;
             out.at(x, y, 2) = lin.z;

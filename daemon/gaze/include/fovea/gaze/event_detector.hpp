@@ -50,8 +50,9 @@ struct DetectorParams {
     double initial_peak_dps = 100.0;        // N&H starting peak threshold
     double peak_sd = 6.0;
     double onset_sd = 3.0;
-    double min_peak_dps = 30.0;  // floors for very quiet trackers
-    double min_onset_dps = 15.0;
+    // Floor of the peak threshold for very quiet trackers (fitted: eval/cv.hpp); the onset
+    // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6).
+    double min_peak_dps = 30.0;
     int onset_extra_samples = 0;        // walk back past the threshold to the minimum
     double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
     // The offset's local minimum is found on a sharper derivative (+-2 ms): the wider window
@@ -73,7 +74,7 @@ struct DetectorParams {
     double smooth_half_window_s = 0.400;  // pursuit speed window, +-400 ms within a segment
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
-    double pursuit_noise_gain = 85.0;    // threshold floor per degree of position noise
+    double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
     // Online: prior for the position noise (the lund2013 recordings span 0.017-0.078, median
     // ~0.03 deg), worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
@@ -90,6 +91,8 @@ struct DetectorParams {
     // causal provisional labels (Pipeline::latest()).
     double lookahead_s = 0.350;
     double threshold_horizon_s = 30.0;  // online: memory of the threshold statistics
+
+    double min_onset_dps() const { return min_peak_dps * onset_sd / peak_sd; }
 };
 
 enum class DetectorMode { kOnline, kOffline };
@@ -162,11 +165,11 @@ private:
     struct Entry {
         double t, x, y;
         double v = kNaN;
-        double vf = kNaN;  // speed from the sharper offset derivative
+        double vf = kNaN;               // speed from the sharper offset derivative
         double vx = kNaN, vy = kNaN;    // velocity vector (wide derivative)
         double vfx = kNaN, vfy = kNaN;  // velocity vector (sharp derivative)
-        bool valid = false;  // measured (not a held dropout value)
-        bool lost = false;   // part of a loss long enough to be a blink
+        bool valid = false;             // measured (not a held dropout value)
+        bool lost = false;              // part of a loss long enough to be a blink
         Label label = Label::kPending;
         int64_t sacc = -1;            // saccade record id
         std::array<double, 6> cum{};  // running sums t, x, y, tt, tx, ty since the anchor
@@ -202,22 +205,22 @@ private:
     DetectorParams p_;
     DetectorMode mode_;
     double rate_;
-    int k_;          // velocity half window, samples
-    int kf_;         // offset velocity half window, samples (<= k_)
-    int w_;          // smoothing half window, samples
-    int lookahead_;  // samples
-    int history_;    // samples kept behind the emission point
+    int k_;            // velocity half window, samples
+    int kf_;           // offset velocity half window, samples (<= k_)
+    int w_;            // smoothing half window, samples
+    int lookahead_;    // samples
+    int history_;      // samples kept behind the emission point
     int stats_delay_;  // online: samples between stage 2 and the threshold statistics
     double peak_, onset_;
     // Online threshold statistics (exponentially weighted, warm-started with a prior).
     double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.1;
 
     std::deque<Entry> buf_;
-    int64_t base_ = 0;      // absolute index of buf_.front()
-    int64_t n_ = 0;         // samples pushed
-    int64_t vel_next_ = 0;  // next sample whose velocity is due
-    int64_t s2_next_ = 0;   // next sample for the saccade stage
-    int64_t s3_next_ = 0;   // next sample for the fixation/pursuit stage
+    int64_t base_ = 0;        // absolute index of buf_.front()
+    int64_t n_ = 0;           // samples pushed
+    int64_t vel_next_ = 0;    // next sample whose velocity is due
+    int64_t s2_next_ = 0;     // next sample for the saccade stage
+    int64_t s3_next_ = 0;     // next sample for the fixation/pursuit stage
     int64_t stats_next_ = 0;  // online: next sample for the threshold statistics
     int64_t emit_next_ = 0;
     bool flushing_ = false;
@@ -235,11 +238,10 @@ private:
     int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
     double sacc_peak_ = 0.0;
     double sacc_dir_x_ = 1.0, sacc_dir_y_ = 0.0;  // unit velocity direction at the peak
-    double sacc_local_noise_ = 0.0;  // velocity mean + k SD before the onset
-    bool sacc_blink_ = false;  // a lid artefact next to a loss: labelled blink
+    double sacc_local_noise_ = 0.0;               // velocity mean + k SD before the onset
+    bool sacc_blink_ = false;                     // a lid artefact next to a loss: labelled blink
     int64_t post_start_ = -1;
     double post_t0_ = 0.0;
-    double pso_peak_ = 0.0;
     std::deque<Record> records_;
     std::vector<double>* velocity_sink_ = nullptr;
     std::vector<double>* noise_sink_ = nullptr;

@@ -23,14 +23,13 @@
 #include <array>
 #include <span>
 
+#include "fovea/gaze/main_sequence.hpp"
+
 namespace fovea::gaze {
 
 struct LandingParams {
-    // Main sequence fitted to the lund2013 labels (../shared/data/README.md).
-    double peak_velocity_dps = 560.0;  // Vp = peak * (1 - exp(-A / c))
-    double peak_c_deg = 4.25;
-    double duration_slope_ms = 2.6;  // D = slope * A + intercept
-    double duration_intercept_ms = 17.0;
+    // The duration a saccade of amplitude A is expected to last (main_sequence.hpp).
+    MainSequence main_sequence = kLund2013Labels;
     // Position profile of estimate 1 ~ Beta(a, b) in normalised time; (3, 3) is minimum jerk.
     // Early-peaked shapes closer to the labels' mean profile (~(1.5, 2)) make the first root
     // ill-conditioned: their slow start fits any large amplitude as well as the right one.
@@ -93,9 +92,9 @@ struct LandingObservation {
     double x0_deg = 0.0, y0_deg = 0.0;  // onset
     double ux = 0.0, uy = 0.0;          // unit direction onset -> newest sample
     double elapsed_s = 0.0;
-    double displacement_deg = 0.0;  // along (ux, uy), line fit through the newest samples
-    double speed_dps = 0.0;         // same fit's slope
-    double peak_speed_dps = 0.0;    // highest earlier fit slope (>= speed_dps)
+    double displacement_deg = 0.0;    // along (ux, uy), line fit through the newest samples
+    double speed_dps = 0.0;           // same fit's slope
+    double peak_speed_dps = 0.0;      // highest earlier fit slope (>= speed_dps)
     double base_amplitude_deg = 0.0;  // geometric mean of the three estimates
     double base_fraction = 0.0;       // elapsed / D(base amplitude), <= 1
 };

@@ -33,6 +33,10 @@ struct EyeSample {
 struct DeviceClock {
     int counter_bits = 64;  // 16, 32 or 64
     double tick_hz = 1e9;   // counter ticks per second
+    // The driver already mapped device time to host CLOCK_MONOTONIC ns (Pupil: by "t" round
+    // trips): ClockSync passes the ticks through and reports sync_uncertainty_us.
+    bool host_synced = false;
+    double sync_uncertainty_us = 0.0;
 };
 
 // What a driver hands to the chain: one tracker frame, untouched but for unit conversion.

@@ -52,11 +52,11 @@ struct ReplayResult {
     uint64_t recorded = 0, replayed = 0;
 };
 
-// Feed every raw sample (pre-roll first, to rebuild the chain state; in file order, one pipeline per device_id, predict_landing as it was
-// live) through a fresh gaze::Pipeline and compare with the recorded processed stream, field by
-// field and bit for bit (times that the daemon stamps itself, t_processed_ns, excepted: the
-// replay stamps its own). The live daemon may stop before its pipeline's look-ahead drained, so
-// only the first `recorded` samples per device are compared.
+// Feed every raw sample (pre-roll first, to rebuild the chain state; in file order, one pipeline
+// per device_id, predict_landing as it was live) through a fresh gaze::Pipeline and compare with
+// the recorded processed stream, field by field and bit for bit (times that the daemon stamps
+// itself, t_processed_ns, excepted: the replay stamps its own). The live daemon may stop before its
+// pipeline's look-ahead drained, so only the first `recorded` samples per device are compared.
 ReplayResult replay(const Recording& rec);
 
 // First field where two samples differ bit for bit ("" if none). Skips t_processed_ns.

@@ -38,8 +38,10 @@ public:
     Plot(int width, int height, std::string title, std::string xlabel, std::string ylabel);
     void set_x(double lo, double hi, bool log = false);
     void set_y(double lo, double hi, bool log = false);
-    void line(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c, int thickness = 1);
-    void points(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c, int radius = 2);
+    void line(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c,
+              int thickness = 1);
+    void points(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c,
+                int radius = 2);
     void bars(const std::vector<double>& x_lo, const std::vector<double>& x_hi,
               const std::vector<double>& ys, Rgb c);
     void xspan(double x0, double x1, Rgb c);  // full-height shaded band
@@ -56,7 +58,7 @@ private:
     std::string title_, xlabel_, ylabel_;
     double x0_ = 0, x1_ = 1, y0_ = 0, y1_ = 1;
     bool xlog_ = false, ylog_ = false;
-    int left_ = 70, right_ = 20, top_ = 34, bottom_ = 46;
+    int left_ = 70, right_ = 20, top_ = 50, bottom_ = 46;  // top: title, legend, y label rows
     std::vector<std::pair<std::string, Rgb>> legend_;
     int vlines_ = 0;
 };

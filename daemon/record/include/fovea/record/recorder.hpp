@@ -32,10 +32,10 @@ namespace fovea::record {
 
 struct RecorderOptions {
     std::string path;
-    RecordingInfo info;                        // time_origin_ns 0 = now
-    int64_t flush_interval_ns = 250'000'000;   // clamped to <= 1 s
+    RecordingInfo info;                       // time_origin_ns 0 = now
+    int64_t flush_interval_ns = 250'000'000;  // clamped to <= 1 s
     int64_t boundary_interval_ns = 5'000'000'000;
-    std::size_t max_pending_samples = 1 << 20; // per stream; beyond it samples are dropped
+    std::size_t max_pending_samples = 1 << 20;         // per stream; beyond it samples are dropped
     std::function<void(const std::string&)> on_error;  // once, writer thread
 };
 
@@ -44,7 +44,7 @@ struct RecorderStats {
     bool recording = false;  // started, not stopped, no error
     bool failed = false;
     std::string error;
-    uint64_t raw_samples = 0;      // written to the file
+    uint64_t raw_samples = 0;  // written to the file
     uint64_t gaze_samples = 0;
     uint64_t latency_samples = 0;
     uint64_t dropped_samples = 0;  // queue full or after a write error

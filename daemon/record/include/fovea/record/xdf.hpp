@@ -28,9 +28,8 @@ enum class Tag : uint16_t {
     kStreamFooter = 6,
 };
 
-inline constexpr std::array<uint8_t, 16> kBoundaryUuid = {0x43, 0xA5, 0x46, 0xDC, 0xCB, 0xF5,
-                                                          0x41, 0x0F, 0xB3, 0x0E, 0xD5, 0x46,
-                                                          0x73, 0x83, 0xCB, 0xE4};
+inline constexpr std::array<uint8_t, 16> kBoundaryUuid = {
+    0x43, 0xA5, 0x46, 0xDC, 0xCB, 0xF5, 0x41, 0x0F, 0xB3, 0x0E, 0xD5, 0x46, 0x73, 0x83, 0xCB, 0xE4};
 
 enum class Format { kFloat32, kDouble64, kString, kInt32, kInt16, kInt8, kInt64 };
 std::string_view format_name(Format f);  // "float32", "double64", ...
@@ -48,7 +47,7 @@ struct StreamInfo {
     Format format = Format::kDouble64;
     double nominal_srate = 0.0;  // 0 = irregular
     std::string source_id;
-    double created_at = 0.0;     // seconds, host clock
+    double created_at = 0.0;  // seconds, host clock
     std::vector<Channel> channels;
     std::string desc_extra_xml;  // more XML elements inside <desc> (already escaped)
 };
@@ -66,6 +65,9 @@ public:
     // converted to `format`; one stamp per sample (seconds).
     void samples(uint32_t id, Format format, int channels, const double* stamps,
                  const double* values, std::size_t n);
+    // `n` samples of a one-channel string stream (markers): one text and one stamp each.
+    void string_samples(uint32_t id, const double* stamps, const std::string* values,
+                        std::size_t n);
     void clock_offset(uint32_t id, double collection_time_s, double offset_s);
     void boundary();
     void stream_footer(uint32_t id, double first_ts, double last_ts, uint64_t sample_count,
@@ -75,10 +77,12 @@ public:
     void clear() { buf_.clear(); }
 
 private:
+    void sample_count(std::size_t n);
     void begin_chunk(Tag tag);  // reserves an 8-byte length, patched in end_chunk()
     void end_chunk();
     void put(const void* p, std::size_t n);
-    template <typename T> void put_le(T v);
+    template <typename T>
+    void put_le(T v);
 
     std::vector<uint8_t> buf_;
     std::size_t chunk_start_ = 0;
@@ -100,9 +104,9 @@ struct Stream {
     int channel_count = 0;
     double nominal_srate = 0.0;
     std::vector<std::string> labels, units;
-    std::vector<double> stamps;               // seconds, one per sample
-    std::vector<double> values;               // numeric formats, row-major
-    std::vector<std::string> string_values;   // string format, row-major
+    std::vector<double> stamps;                            // seconds, one per sample
+    std::vector<double> values;                            // numeric formats, row-major
+    std::vector<std::string> string_values;                // string format, row-major
     std::vector<std::pair<double, double>> clock_offsets;  // (collection time, offset)
     std::size_t sample_count() const { return stamps.size(); }
     int channel_index(std::string_view label) const;  // -1 if absent
@@ -114,12 +118,12 @@ struct Stream {
 
 struct File {
     std::string file_header_xml;
-    std::vector<Stream> streams;   // in StreamHeader order
+    std::vector<Stream> streams;  // in StreamHeader order
     std::vector<ChunkInfo> chunks;
     uint64_t boundaries = 0;
     uint64_t file_size = 0;
-    uint64_t valid_bytes = 0;      // end of the last whole, well-formed chunk
-    bool truncated = false;        // bytes after valid_bytes (partial chunk or damage)
+    uint64_t valid_bytes = 0;  // end of the last whole, well-formed chunk
+    bool truncated = false;    // bytes after valid_bytes (partial chunk or damage)
     std::string truncation_reason;
     Stream* find(uint32_t id);
     const Stream* find(std::string_view name) const;

@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "fovea/demo/raster.hpp"
+#include "fovea/metrics/pooling.hpp"
 #include "fovea/result.hpp"
 #include "fovea/vk/acuity.hpp"
 #include "fovea/vk/foveator.hpp"
-#include "fovea/demo/raster.hpp"
 #include "gpu.hpp"
 
 namespace fovea::demo {
@@ -36,9 +37,6 @@ std::string shading_glsl();
 class SceneRenderer {
 public:
     explicit SceneRenderer(const vk::Device& device);
-    SceneRenderer(const SceneRenderer&) = delete;
-    SceneRenderer& operator=(const SceneRenderer&) = delete;
-    ~SceneRenderer();
     void begin_frame();  // before recording a frame's views (slots are reused per frame)
     // Rasterizes the crop of the view (0..1 of the full frame) into `gbuffer`, with jitter in
     // pixels of the gbuffer. prev: the previous frame's camera, for motion vectors.
@@ -52,8 +50,8 @@ public:
 
 private:
     const vk::Device* device_;
-    VkQueryPool queries_ = VK_NULL_HANDLE;  // a begin/end timestamp pair per view slot
-    uint32_t view_stride_;  // bytes per view slot of views_
+    vk::UniqueQueryPool queries_;  // a begin/end timestamp pair per view slot
+    uint32_t view_stride_;         // bytes per view slot of views_
     vk::Buffer views_;
     BufferSetLayout layout_;
     GBufferRenderPass pass_;
@@ -86,17 +84,40 @@ struct Rgb8 {
     uint32_t width = 0, height = 0;
     std::vector<uint8_t> rgb;
 };
-// Linear HDR RGBA16F (as read back) -> display RGB8: exposure tone curve then sRGB.
+// Linear HDR RGBA16F (as read back) -> display RGB8: exposure tone curve then sRGB (the GPU FLIP's
+// metrics::FlipInput::kDemoDisplay is the same transform; tests/metrics pins both together).
 Rgb8 tonemap(const std::vector<uint8_t>& rgba16f, uint32_t width, uint32_t height);
 // S_t (R16F) -> a colour map: blue full rate, green 2x2, red 4x4.
 Rgb8 rate_map(const std::vector<uint8_t>& r16f, uint32_t width, uint32_t height);
-bool write_png(const std::string& path, const Rgb8& image);
+bool write_png(const std::string& path, const Rgb8& image);  // fovea::metrics::write_png
 
+// Per pixel of a frame: its eccentricity band (vk::kBandEdgesDeg) and whether it lies within the
+// foveal radius of the gaze. The metrics work in the rendered image's pixels, the model in the
+// display's.
+struct BandLabels {
+    std::vector<int8_t> band;   // 0 .. kBandCount - 1
+    std::vector<int8_t> fovea;  // 0 inside the foveal radius, -1 outside
+};
+BandLabels band_labels(uint32_t width, uint32_t height, const vk::EyeDisplay& display,
+                       const vk::ResolvedGaze& gaze, float foveal_radius_deg);
+
+// PSNR and SSIM pooled over every frame added (fovea::metrics::RegionSums): squared errors summed
+// before the one log, no cap (identical frames give +inf), SSIM averaged over every pixel.
 struct ErrorFigures {
-    double psnr_fovea_db = 0.0;  // pixels within the foveal radius of the gaze; capped at 100
-    std::array<double, vk::kBandCount> psnr_bands_db{};  // NaN for empty bands
+    double psnr_db = 0.0;        // the whole frame
+    double psnr_fovea_db = 0.0;  // pixels within the foveal radius of the gaze
+    std::array<double, vk::kBandCount> psnr_bands_db{};  // NaN for bands no frame reached
     std::array<double, vk::kBandCount> ssim_bands{};
 };
+class ErrorPool {
+public:
+    void add(const Rgb8& test, const Rgb8& reference, const BandLabels& labels);
+    ErrorFigures figures() const;
+
+private:
+    metrics::RegionSums sq_{vk::kBandCount}, ssim_{vk::kBandCount}, sq_fovea_{1};
+};
+// One frame's figures.
 ErrorFigures compare(const Rgb8& test, const Rgb8& reference, const vk::EyeDisplay& display,
                      const vk::ResolvedGaze& gaze, float foveal_radius_deg);
 
@@ -111,7 +132,7 @@ struct RunOptions {
     double frame_dt_s = 0.25;  // spacing of frames along the path and the gaze trace
     float eye_offset_m = 0.f;
     std::function<vk::GazeState(double t_s)> gaze;  // default: a scripted trace
-    std::string png_dir;        // write PNGs of every method's frames when set
+    std::string png_dir;                            // write PNGs of every method's frames when set
     std::string png_prefix = "frame";
     std::function<void(const std::string&)> progress;  // one line per frame
     std::vector<std::string> options;  // FoveatorConfig::options ("key=value") for every method
@@ -121,15 +142,15 @@ struct RunOptions {
 };
 struct MethodResult {
     std::string name;
-    std::string error;            // init failure; the other fields are then empty
-    std::vector<double> ms;       // wall time per frame (G-buffer + method + post), submit->done
+    std::string error;       // init failure; the other fields are then empty
+    std::vector<double> ms;  // wall time per frame (G-buffer + method + post), submit->done
     double ms_median = 0.0;
-    double shaded_fraction = 0.0; // mean over frames
-    double method_gpu_ms = 0.0;   // median GPU time of the method's passes
-    double skipped_tiles = 0.0;   // mean per frame: tiles without a host shading call (cps)
-    double reused_tiles = 0.0;    // mean per frame: of which last frame's shading kept (cps)
-    double gbuffer_gpu_ms = 0.0;  // median GPU time of the host's G-buffer passes (all views)
-    ErrorFigures error_figures;   // mean over frames (PSNR averaged in dB)
+    double shaded_fraction = 0.0;  // mean over frames
+    double method_gpu_ms = 0.0;    // median GPU time of the method's passes
+    double skipped_tiles = 0.0;    // mean per frame: tiles without a host shading call (cps)
+    double reused_tiles = 0.0;     // mean per frame: of which last frame's shading kept (cps)
+    double gbuffer_gpu_ms = 0.0;   // median GPU time of the host's G-buffer passes (all views)
+    ErrorFigures error_figures;    // pooled over the frames
 };
 Result<std::vector<MethodResult>> run(const vk::Device& device, const RunOptions& options);
 

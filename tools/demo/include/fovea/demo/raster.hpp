@@ -1,9 +1,9 @@
 // Rasterization building blocks of the demo host's G-buffer pass (demo-only, so not in the SDK):
-// a depth attachment, the render pass over the module's six G-buffer images plus depth, and a
+// a depth attachment, the render pass over the module's G-buffer images plus depth, and a
 // vertex + fragment pipeline without vertex buffers (geometry comes from gl_VertexIndex).
-// Move-only RAII like sdk/src/vk/gpu.hpp. A VkRenderPass rather than dynamic rendering: the
-// module's headless device is Vulkan 1.2 without VK_KHR_dynamic_rendering, and a host's device
-// need not enable it either.
+// Move-only RAII through sdk/src/vk/gpu.hpp's handle type. A VkRenderPass rather than dynamic
+// rendering: the module's headless device is Vulkan 1.2 without VK_KHR_dynamic_rendering, and a
+// host's device need not enable it either.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,7 @@
 
 #include "fovea/vk/device.hpp"
 #include "fovea/vk/gbuffer.hpp"
+#include "gpu.hpp"
 
 namespace fovea::demo {
 
@@ -23,19 +24,13 @@ class DepthImage {
 public:
     DepthImage() = default;
     DepthImage(const vk::Device& device, VkExtent2D extent);
-    DepthImage(DepthImage&& o) noexcept { *this = std::move(o); }
-    DepthImage& operator=(DepthImage&& o) noexcept;
-    DepthImage(const DepthImage&) = delete;
-    DepthImage& operator=(const DepthImage&) = delete;
-    ~DepthImage() { reset(); }
-    void reset();
-    VkImageView view() const { return view_; }
+    void reset() { *this = DepthImage(); }
+    VkImageView view() const { return view_.get(); }
 
 private:
-    VkDevice device_ = VK_NULL_HANDLE;
-    VkImage image_ = VK_NULL_HANDLE;
-    VkDeviceMemory memory_ = VK_NULL_HANDLE;
-    VkImageView view_ = VK_NULL_HANDLE;
+    vk::UniqueDeviceMemory memory_;  // destroyed in reverse: view, image, memory
+    vk::UniqueImage image_;
+    vk::UniqueImageView view_;
 };
 
 // The G-buffer images stay in VK_IMAGE_LAYOUT_GENERAL (the module's contract) and are fully
@@ -44,11 +39,8 @@ private:
 class GBufferRenderPass {
 public:
     explicit GBufferRenderPass(const vk::Device& device);
-    GBufferRenderPass(const GBufferRenderPass&) = delete;
-    GBufferRenderPass& operator=(const GBufferRenderPass&) = delete;
-    ~GBufferRenderPass();
 
-    VkRenderPass get() const { return pass_; }
+    VkRenderPass get() const { return pass_.get(); }
     // Begins the pass over `gbuffer` and sets viewport and scissor to its extent. The framebuffer
     // lives until release_framebuffers(), to be called once the commands have completed.
     void begin(VkCommandBuffer cmd, const vk::GBufferRefs& gbuffer, VkImageView depth);
@@ -56,9 +48,8 @@ public:
     void release_framebuffers();
 
 private:
-    VkDevice device_;
-    VkRenderPass pass_ = VK_NULL_HANDLE;
-    std::vector<VkFramebuffer> framebuffers_;
+    vk::UniqueRenderPass pass_;
+    std::vector<vk::UniqueFramebuffer> framebuffers_;  // destroyed before the pass
 };
 
 // One descriptor set with one uniform buffer visible to the vertex and fragment stages, bound
@@ -69,19 +60,15 @@ private:
 class BufferSetLayout {
 public:
     BufferSetLayout(const vk::Device& device, VkBuffer buffer, VkDeviceSize range);
-    BufferSetLayout(const BufferSetLayout&) = delete;
-    BufferSetLayout& operator=(const BufferSetLayout&) = delete;
-    ~BufferSetLayout();
 
-    VkPipelineLayout layout() const { return layout_; }
+    VkPipelineLayout layout() const { return layout_.get(); }
     VkDescriptorSet set() const { return set_; }
 
 private:
-    VkDevice device_;
-    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-    VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkDescriptorPool pool_ = VK_NULL_HANDLE;
-    VkDescriptorSet set_ = VK_NULL_HANDLE;
+    vk::UniqueDescriptorSetLayout set_layout_;
+    vk::UniquePipelineLayout layout_;
+    vk::UniqueDescriptorPool pool_;
+    VkDescriptorSet set_ = VK_NULL_HANDLE;  // freed with pool_
 };
 
 struct RasterState {
@@ -100,17 +87,11 @@ public:
                      uint32_t color_attachments, std::span<const uint32_t> vert,
                      std::span<const uint32_t> frag, RasterState state,
                      std::span<const uint32_t> vert_spec = {});
-    GraphicsPipeline(GraphicsPipeline&& o) noexcept { *this = std::move(o); }
-    GraphicsPipeline& operator=(GraphicsPipeline&& o) noexcept;
-    GraphicsPipeline(const GraphicsPipeline&) = delete;
-    GraphicsPipeline& operator=(const GraphicsPipeline&) = delete;
-    ~GraphicsPipeline() { reset(); }
-    void reset();
-    VkPipeline get() const { return pipeline_; }
+    void reset() { pipeline_.reset(); }
+    VkPipeline get() const { return pipeline_.get(); }
 
 private:
-    VkDevice device_ = VK_NULL_HANDLE;
-    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    vk::UniquePipeline pipeline_;
 };
 
 }  // namespace fovea::demo

@@ -1,0 +1,10 @@
+// `fovea simulate pupil`: added to the `simulate` command (cmd_simulate.cpp).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace fovea::cli {
+
+void add_simulate_pupil(CLI::App& simulate);
+
+}  // namespace fovea::cli
