@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -17,6 +18,7 @@
 
 #include "daemon.hpp"
 #include "fovea/gaze/calibration.hpp"
+#include "fovea/json_integer.hpp"
 #include "paths.hpp"
 
 namespace fovea::daemon {
@@ -383,11 +385,11 @@ private:
     uint32_t device_arg(const json& req, const std::string& cmd) const {
         const auto it = req.find("device");
         if (it == req.end()) return 0;
-        if (!it->is_number_integer() || it->get<int64_t>() < 0 ||
-            it->get<uint64_t>() >= daemon_.device_count())
+        const auto device = json_integer(*it, 0, static_cast<int64_t>(daemon_.device_count()) - 1);
+        if (!device)
             fail(cmd + ": \"device\" must be a device index below " +
                  std::to_string(daemon_.device_count()));
-        return it->get<uint32_t>();
+        return static_cast<uint32_t>(*device);
     }
 
     // One raw sample for the current point, restricted to the session's eyes.
@@ -435,7 +437,8 @@ private:
         if (!device) {
             const json j = json::parse(text.str(), nullptr, false);
             const json d = j.is_object() ? j.value("device", json(0)) : json(0);
-            device = d.is_number_unsigned() ? d.get<uint32_t>() : 0u;
+            device = static_cast<uint32_t>(
+                json_integer(d, 0, std::numeric_limits<uint32_t>::max()).value_or(0));
         }
         if (!daemon_.set_calibration(*device, &*c))
             fail(*path + ": device " + std::to_string(*device) + " does not exist");

@@ -1,6 +1,5 @@
 #include "config.hpp"
 
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -32,9 +31,7 @@ Result<void> read_number(const toml::table& t, const char* key, T& out, double l
     return {};
 }
 
-}  // namespace
-
-Result<DaemonConfig> parse_config(const std::string& text, const std::string& origin) {
+Result<DaemonConfig> parse_unchecked(const std::string& text, const std::string& origin) {
     DaemonConfig cfg;
     cfg.source_path = origin;
     toml::table root;
@@ -42,19 +39,8 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
         root = toml::parse(text, origin);
     } catch (const toml::parse_error& e) {
         const auto& where = e.source().begin;
-        // toml++ quotes the offending bytes; control characters would break the one line.
-        std::string what;
-        for (const char ch : e.description()) {
-            if (static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7f) {
-                what += ch;
-            } else {
-                char hex[8];
-                std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(ch));
-                what += hex;
-            }
-        }
         return make_error(origin + ":" + std::to_string(where.line) + ":" +
-                          std::to_string(where.column) + ": " + what);
+                          std::to_string(where.column) + ": " + std::string(e.description()));
     }
     for (const auto& [key, node] : root) {
         bool known = false;
@@ -159,6 +145,16 @@ Result<DaemonConfig> parse_config(const std::string& text, const std::string& or
             cfg.devices.push_back(*t);
         }
     }
+    return cfg;
+}
+
+}  // namespace
+
+Result<DaemonConfig> parse_config(const std::string& text, const std::string& origin) {
+    auto cfg = parse_unchecked(text, origin);
+    // Messages quote the text (toml++ the offending bytes, drivers a value, a key its name);
+    // a control character there would break the one line a bad config gets.
+    if (!cfg) return make_error(printable(cfg.error().message, 2000), cfg.error().code);
     return cfg;
 }
 

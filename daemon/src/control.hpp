@@ -18,6 +18,7 @@
 #include <boost/asio/local/stream_protocol.hpp>
 #include <nlohmann/json.hpp>
 
+#include "control_client.hpp"
 #include "fovea/result.hpp"
 
 namespace fovea::daemon {
@@ -75,9 +76,5 @@ private:
     uint64_t requests_ = 0;
     uint64_t rejected_ = 0;
 };
-
-// Client side (the CLI, tests): send one request, wait for its reply.
-Result<nlohmann::json> control_request(const std::string& socket_path,
-                                       const nlohmann::json& request, int timeout_ms = 2000);
 
 }  // namespace fovea::daemon

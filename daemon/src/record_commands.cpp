@@ -6,14 +6,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
 #include "daemon.hpp"
+#include "fovea/json_integer.hpp"
 #include "fovea/record/latency_stats.hpp"
 #include "fovea/record/recorder.hpp"
 
@@ -93,14 +97,22 @@ struct ClientReport {
                 !h)
                 throw std::runtime_error(std::string(kGazeAgeHops[i]) + ": " + h.error().message);
         }
-        try {
-            r.frames = req.value("frames", uint64_t{0});
-            r.stale_frames = req.value("stale_frames", uint64_t{0});
-            r.frames_without_gaze = req.value("frames_without_gaze", uint64_t{0});
-            r.stale_threshold_ns = req.value("stale_threshold_ns", int64_t{0});
-        } catch (const json::exception& e) {
-            throw std::runtime_error(std::string("latency.report frame counters: ") + e.what());
+        for (auto [key, out] :
+             {std::pair{"frames", &r.frames}, std::pair{"stale_frames", &r.stale_frames},
+              std::pair{"frames_without_gaze", &r.frames_without_gaze}}) {
+            const auto c = json_count(req, key, 0);
+            if (!c)
+                throw std::runtime_error(std::string("latency.report: \"") + key +
+                                         "\" must be a non-negative integer");
+            *out = *c;
         }
+        const auto stale = req.contains("stale_threshold_ns")
+                               ? json_integer(req["stale_threshold_ns"], 0, INT64_MAX)
+                               : std::optional<int64_t>(0);
+        if (!stale)
+            throw std::runtime_error(
+                "latency.report: \"stale_threshold_ns\" must be a non-negative integer");
+        r.stale_threshold_ns = *stale;
         return r;
     }
 };

@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "control.hpp"
+#include "control_client.hpp"
 #include "fovea/client.hpp"
 #include "paths.hpp"
 
@@ -153,6 +153,24 @@ TEST_F(FrameLatencyDaemon, MalformedReportIsRefusedWithTheDaemonsReason) {
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(r->value("ok", true)) << r->dump();
     EXPECT_NE(r->value("error", std::string()).find("buckets"), std::string::npos) << r->dump();
+}
+
+// Found by tests/fuzz/fuzz_control: a frame counter of 1e300 reached nlohmann's get<uint64_t>(),
+// which is undefined behaviour for a float, not an exception.
+TEST_F(FrameLatencyDaemon, FrameCountersThatAreNotCountsAreRefusedByName) {
+    for (const json& bad : {json(1e300), json(-3), json(2.5), json("7")}) {
+        for (const char* key : {"frames", "stale_frames", "stale_threshold_ns"}) {
+            auto r = fovea::daemon::control_request(
+                socket_, {{"cmd", "latency.report"}, {"hops", json::object()}, {key, bad}}, 5000);
+            ASSERT_TRUE(r) << r.error().message;
+            EXPECT_FALSE(r->value("ok", true)) << key << " " << bad.dump() << " " << r->dump();
+            EXPECT_NE(r->value("error", std::string()).find(key), std::string::npos) << r->dump();
+        }
+    }
+    auto ok = fovea::daemon::control_request(
+        socket_, {{"cmd", "latency.report"}, {"hops", json::object()}, {"frames", 12}}, 5000);
+    ASSERT_TRUE(ok) << ok.error().message;
+    EXPECT_TRUE(ok->value("ok", false)) << ok->dump();
 }
 
 }  // namespace

@@ -24,7 +24,7 @@
 
 #include "../support/child_process.hpp"
 
-#include "control.hpp"
+#include "control_client.hpp"
 #include "fovea/client.hpp"
 #include "paths.hpp"
 

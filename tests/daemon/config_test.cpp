@@ -56,6 +56,21 @@ TEST(DaemonConfig, SyntaxErrorIsOneLineWhateverBytesItQuotes) {
     EXPECT_EQ(r.error().message.rfind("f.toml:2:", 0), 0u) << r.error().message;
 }
 
+// Found by tests/fuzz/fuzz_daemon_config: a bad calibration user name was quoted raw, and TOML's
+// "\n" escape put a newline into it.
+TEST(DaemonConfig, ErrorQuotingAValueIsOneLineWhateverTheValueHolds) {
+    for (const char* text : {"[calibration]\nuser = \"a.b\\ncd\"\n", "\"k\\ney\" = 1\n",
+                             "[[device]]\ndriver = \"s\\nim\"\n[zmq]\n\"x\\ty\" = 2\n"}) {
+        auto r = parse_config(text, "f.toml");
+        ASSERT_FALSE(r.ok()) << text;
+        EXPECT_EQ(r.error().message.rfind("f.toml", 0), 0u) << r.error().message;
+        for (char ch : r.error().message) EXPECT_GE(static_cast<unsigned char>(ch), 0x20) << text;
+    }
+    auto r = parse_config("[calibration]\nuser = \"a.b\\ncd\"\n", "f.toml");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("'a.b\\x0acd'"), std::string::npos) << r.error().message;
+}
+
 TEST(DaemonConfig, UnknownKeyAndBadValuesAreNamed) {
     auto c = parse_config("instanse = \"x\"\n", "a.toml");
     ASSERT_FALSE(c.ok());

@@ -21,7 +21,7 @@
 
 #include "../support/child_process.hpp"
 
-#include "control.hpp"
+#include "control_client.hpp"
 #include "paths.hpp"
 
 extern char** environ;

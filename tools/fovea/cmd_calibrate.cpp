@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "control.hpp"
+#include "control_client.hpp"
 #include "fovea/ring.h"
 #include "gaze_format.hpp"
 #include "paths.hpp"

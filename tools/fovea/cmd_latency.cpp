@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "control.hpp"
+#include "control_client.hpp"
 #include "fovea/record/latency_stats.hpp"
 #include "gaze_format.hpp"
 #include "paths.hpp"

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "control.hpp"
+#include "control_client.hpp"
 #include "gaze_format.hpp"
 #include "paths.hpp"
 #include "ring_session.hpp"

@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "command.hpp"
-#include "control.hpp"
+#include "control_client.hpp"
 #include "paths.hpp"
 
 namespace fovea::cli {

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <utility>
 
+#include "fovea/json_integer.hpp"
 #include "gauss_jordan.hpp"
 
 namespace fovea::gaze {
@@ -277,14 +278,10 @@ Result<Calibration> Calibration::from_json(const std::string& text, const Displa
     Calibration c(d);
     try {
         const auto j = nlohmann::json::parse(text);
-        // A count must be an integer in range: get<int>() of 1e300 would be undefined.
         auto count = [&j](const char* key, int64_t fallback) -> std::optional<int64_t> {
             const auto it = j.find(key);
             if (it == j.end()) return fallback;
-            if (!it->is_number_integer() || it->get<int64_t>() < 0 ||
-                it->get<int64_t>() > 1'000'000)
-                return std::nullopt;
-            return it->get<int64_t>();
+            return json_integer(*it, 0, 1'000'000);
         };
         if (count("version", 0) != 1 || j.value("model", "") != "poly2_cross") {
             return make_error("calibration: unsupported version or model");
@@ -352,12 +349,12 @@ Result<Calibration> Calibration::load(const std::string& path, const DisplayGeom
 
 Result<std::string> Calibration::user_path(const std::string& dir, const std::string& user) {
     if (user.empty() || user.size() > 64 || user[0] == '.') {
-        return make_error("bad user name '" + user + "'");
+        return make_error("bad user name '" + printable(user) + "'");
     }
     for (char ch : user) {
         const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
                         (ch >= '0' && ch <= '9') || ch == '.' || ch == '_' || ch == '-';
-        if (!ok) return make_error("bad user name '" + user + "': use [A-Za-z0-9._-]");
+        if (!ok) return make_error("bad user name '" + printable(user) + "': use [A-Za-z0-9._-]");
     }
     return dir + "/" + user + ".json";
 }

@@ -110,23 +110,4 @@ int column_index(const std::vector<std::string>& columns, std::string_view name)
     return -1;
 }
 
-std::string printable(std::string_view s, std::size_t max) {
-    std::string out;
-    for (char c : s) {
-        if (out.size() >= max) {
-            out += "...";
-            break;
-        }
-        const auto u = static_cast<unsigned char>(c);
-        if (u < 0x20 || u == 0x7f) {
-            static const char kHex[] = "0123456789abcdef";
-            out +=
-                c == '\t' ? std::string("\\t") : std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
-        } else {
-            out += c;
-        }
-    }
-    return out;
-}
-
 }  // namespace fovea::import::detail

@@ -144,7 +144,6 @@ inline bool parse_int(std::string_view s, int64_t& out) {
 // Index of `name` in `columns` (trimmed, exact), or -1.
 int column_index(const std::vector<std::string>& columns, std::string_view name);
 
-// Text fit for one issue line: control bytes escaped, at most `max` characters.
-std::string printable(std::string_view s, std::size_t max = 60);
+using fovea::printable;  // text fit for one issue line
 
 }  // namespace fovea::import::detail

@@ -1,10 +1,12 @@
 #include "fovea/record/latency_stats.hpp"
 
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 
 #include "fovea/gaze/sample.hpp"
+#include "fovea/json_integer.hpp"
 
 namespace fovea::record {
 
@@ -66,12 +68,10 @@ Result<void> histogram_from_json(const nlohmann::json& j, LatencyHistogram& out)
     if (!j.is_object() || !j.contains("buckets") || !j["buckets"].is_array()) {
         return make_error("latency histogram JSON needs a \"buckets\" array (status with buckets)");
     }
-    // nlohmann's get<uint64_t>() of a float or negative number is undefined behaviour, not an
-    // exception, so every count is checked to be a non-negative integer first.
     auto count = [](const nlohmann::json& v, const std::string& what) {
-        const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<int64_t>() >= 0);
-        if (!ok) throw std::invalid_argument(what + " is not a count");
-        return v.get<uint64_t>();
+        const auto c = json_count(v);
+        if (!c) throw std::invalid_argument(what + " is not a count");
+        return *c;
     };
     LatencyHistogram::Sparse s;
     try {
@@ -81,8 +81,10 @@ Result<void> histogram_from_json(const nlohmann::json& j, LatencyHistogram& out)
         s.min_ns = count(j.at("min_ns"), "min_ns");
         s.max_ns = count(j.at("max_ns"), "max_ns");
         for (const auto& b : j["buckets"]) {
-            if (!b.at(0).is_number_integer()) throw std::invalid_argument("bucket index");
-            s.buckets.emplace_back(b.at(0).get<int>(), count(b.at(1), "bucket count"));
+            const auto index = json_integer(b.at(0), std::numeric_limits<int>::min(),
+                                            std::numeric_limits<int>::max());
+            if (!index) throw std::invalid_argument("bucket index");
+            s.buckets.emplace_back(static_cast<int>(*index), count(b.at(1), "bucket count"));
         }
     } catch (const std::exception& e) {  // nlohmann's exceptions and the checks above
         return make_error(std::string("latency histogram JSON: ") + e.what());

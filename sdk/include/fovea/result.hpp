@@ -4,6 +4,7 @@
 
 #include <cassert>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -70,6 +71,31 @@ private:
 
 inline Error make_error(std::string message, int code = 0) {
     return Error{std::move(message), code};
+}
+
+// Outside text (a name from a config, a field from a file) fit to quote inside an Error message,
+// which is one line: control bytes become \t or \xNN, and text past `max` characters is cut
+// with "...". Thread-safe (pure).
+inline std::string printable(std::string_view s, std::size_t max = 60) {
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string out;
+    for (const char c : s) {
+        if (out.size() >= max) {
+            out += "...";
+            break;
+        }
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '\t') {
+            out += "\\t";
+        } else if (u < 0x20 || u == 0x7f) {
+            out += "\\x";
+            out += kHex[u >> 4];
+            out += kHex[u & 15];
+        } else {
+            out += c;
+        }
+    }
+    return out;
 }
 
 }  // namespace fovea
