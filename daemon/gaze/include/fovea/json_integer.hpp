@@ -28,7 +28,8 @@ inline std::optional<int64_t> json_integer(const nlohmann::json& v, int64_t lo, 
 // The count `v` holds when it is a non-negative integer (the whole uint64_t range).
 inline std::optional<uint64_t> json_count(const nlohmann::json& v) {
     if (v.is_number_unsigned()) return v.get<uint64_t>();
-    if (v.is_number_integer() && v.get<int64_t>() >= 0) return static_cast<uint64_t>(v.get<int64_t>());
+    if (v.is_number_integer() && v.get<int64_t>() >= 0)
+        return static_cast<uint64_t>(v.get<int64_t>());
     return std::nullopt;
 }
 
