@@ -113,7 +113,8 @@ Result<DisplayProfile> load_profile_file(const std::string& path) {
 
 std::string builtin_profiles_dir() {
 #ifdef FOVEA_PROFILES_INSTALL_DIR
-    if (std::filesystem::is_directory(FOVEA_PROFILES_INSTALL_DIR))
+    std::error_code ec;
+    if (std::filesystem::is_directory(FOVEA_PROFILES_INSTALL_DIR, ec))
         return FOVEA_PROFILES_INSTALL_DIR;
 #endif
     return FOVEA_PROFILES_SOURCE_DIR;
@@ -142,7 +143,8 @@ Result<DisplayProfile> find_profile(const std::string& name_or_path,
         return load_profile_file(name_or_path);
     for (const auto& dir : search_dirs(extra_dirs)) {
         const std::string path = dir + "/" + name_or_path + ".toml";
-        if (std::filesystem::is_regular_file(path)) return load_profile_file(path);
+        std::error_code ec;  // a name past NAME_MAX is an unknown profile, not an exception
+        if (std::filesystem::is_regular_file(path, ec)) return load_profile_file(path);
     }
     std::string known;
     for (const auto& n : list_profiles(extra_dirs)) known += (known.empty() ? "" : ", ") + n;

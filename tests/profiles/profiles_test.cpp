@@ -147,6 +147,15 @@ TEST(Vergence, SkewRaysGiveTheMidpointAndTheMissDistance) {
     EXPECT_NEAR(v.point_m[2], 0.5, 1e-9);
 }
 
+// Found by tests/fuzz/fuzz_daemon_config: a name past NAME_MAX made std::filesystem throw
+// (ENAMETOOLONG) out of the config parser.
+TEST(DisplayProfiles, ANameTooLongForAFileIsAnUnknownProfile) {
+    const auto p = find_profile(std::string(300, 'g'));
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("unknown display profile"), std::string::npos)
+        << p.error().message;
+}
+
 TEST(DisplayProfiles, InvalidProfilesAreRejectedWithTheReason) {
     auto r = parse_profile("name = 'x'\nkind = 'tv'\n", "t");
     ASSERT_FALSE(r.ok());

@@ -260,7 +260,7 @@ Result<std::vector<StreamSpec>> folder_streams(const fs::path& dir, bool& eye_ca
         if (e.path().extension() == ".pldata") files.push_back(e.path());
     std::sort(files.begin(), files.end());
     if (files.empty()) return make_error(dir.string() + ": no .pldata files");
-    const bool has_gaze = fs::exists(dir / "gaze.pldata");
+    const bool has_gaze = fs::exists(dir / "gaze.pldata", ec);
     eye_camera = true;
     std::vector<StreamSpec> out;
     for (const auto& f : files) {
@@ -270,7 +270,7 @@ Result<std::vector<StreamSpec>> folder_streams(const fs::path& dir, bool& eye_ca
         s.name = f.filename().string();
         s.open = [p = f.string()] { return ByteSource::file(p); };
         const fs::path npy = dir / (stem + "_timestamps.npy");
-        if (fs::exists(npy)) s.npy = npy.string();
+        if (fs::exists(npy, ec)) s.npy = npy.string();
         const bool gaze = stem.find("gaze") != std::string::npos;
         s.samples = gaze || (!has_gaze && stem == "pupil");
         if (gaze) eye_camera = false;
