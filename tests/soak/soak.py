@@ -15,6 +15,7 @@ status is 0 only when every check passed.
 """
 import argparse
 import json
+import multiprocessing
 import os
 import random
 import re
@@ -38,6 +39,57 @@ def free_port():
         return s.getsockname()[1]
 
 
+def request(sock, req, timeout=2.0):
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
+        s.settimeout(timeout)
+        s.connect(sock)
+        s.sendall((json.dumps(req) + "\n").encode())
+        buf = b""
+        while not buf.endswith(b"\n"):
+            chunk = s.recv(65536)
+            if not chunk:
+                break
+            buf += chunk
+        return json.loads(buf)
+
+
+def dump_stacks(pid, path):
+    """Where fovead's threads are when it does not answer (needs gdb)."""
+    if not os.path.exists("/usr/bin/gdb"):
+        return
+    with open(path, "w") as f:
+        try:
+            subprocess.run(["gdb", "-p", str(pid), "-batch", "-ex", "thread apply all bt 30"],
+                           stdout=f, stderr=subprocess.STDOUT, timeout=20, check=False)
+        except (OSError, subprocess.TimeoutExpired) as e:  # no ptrace in some sandboxes
+            f.write("gdb: %s\n" % e)
+    print("fovead's stacks: %s" % path, flush=True)
+
+
+def probe_status(sock, csv_path, t0, stop, restarting, bursting, daemon_pid):
+    """Asks for status every 100 ms and writes `t_s,ms,bursting,error` per request. It runs in
+    its own process: among the harness's threads its timing would include waits for Python's
+    GIL (the abuser builds a quarter of a GiB of requests per burst), not only fovead's answer."""
+    dumped = False
+    with open(csv_path, "w", buffering=1) as out:
+        out.write("t_s,ms,bursting,error\n")
+        while not stop.is_set():
+            t = time.monotonic()
+            error = ""
+            try:
+                request(sock, {"cmd": "status"}, timeout=5.0)
+            except OSError as e:
+                if restarting.is_set():
+                    continue
+                error = str(e).replace(",", ";")
+                if not dumped:
+                    dumped = True
+                    dump_stacks(daemon_pid.value, os.path.dirname(csv_path) + "/fovead.stacks.txt")
+            ms = (time.monotonic() - t) * 1000.0
+            out.write("%.3f,%.2f,%d,%s\n" % (t - t0, ms, bursting.is_set(), error))
+            time.sleep(max(0.0, 0.1 - (time.monotonic() - t)))
+
+
 class Soak:
     def __init__(self, a):
         self.a = a
@@ -54,11 +106,12 @@ class Soak:
         self.failures = []
         self.stop = threading.Event()
         self.quiet = threading.Event()
-        self.status_ms = []
+        self.mp = multiprocessing.get_context("spawn")  # no fork of a threaded harness
+        self.restarting, self.bursting = self.mp.Event(), self.mp.Event()
+        self.status_stop = self.mp.Event()
+        self.status_csv = self.out + "/status.csv"
         self.resources = []  # (t, rss_kb, fds, threads)
         self.abuse = {"bursts": 0, "connections": 0, "refused": 0}
-        self.dumped = False
-        self.bursting = False
         self.t0 = time.monotonic()
 
     # ---- processes -------------------------------------------------------------------------
@@ -73,17 +126,7 @@ class Soak:
         print("FAIL: " + what, flush=True)
 
     def request(self, req, timeout=2.0):
-        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
-            s.settimeout(timeout)
-            s.connect(self.sock)
-            s.sendall((json.dumps(req) + "\n").encode())
-            buf = b""
-            while not buf.endswith(b"\n"):
-                chunk = s.recv(65536)
-                if not chunk:
-                    break
-                buf += chunk
-        return json.loads(buf)
+        return request(self.sock, req, timeout)
 
     def start_daemon(self):
         self.daemon = self.spawn([self.fovead, "--instance", self.instance, "--config",
@@ -98,33 +141,6 @@ class Soak:
         raise SystemExit("fovead did not answer within 20 s (see %s/fovead.log)" % self.out)
 
     # ---- background activity ---------------------------------------------------------------
-    def prober(self):
-        while not self.stop.is_set():
-            t0 = time.monotonic()
-            try:
-                self.request({"cmd": "status"}, timeout=5.0)
-                self.status_ms.append((time.monotonic() - t0) * 1000.0)
-            except OSError as e:
-                if not self.restarting:
-                    self.fail("status request failed at %.1f s: %s"
-                              % (time.monotonic() - self.t0, e))
-                    self.dump_stacks()
-            time.sleep(max(0.0, 0.1 - (time.monotonic() - t0)))
-
-    def dump_stacks(self):
-        """Where fovead's threads are when it does not answer (once; needs gdb)."""
-        if self.dumped or not os.path.exists("/usr/bin/gdb"):
-            return
-        self.dumped = True
-        with open(self.out + "/fovead.stacks.txt", "w") as f:
-            try:
-                subprocess.run(["gdb", "-p", str(self.daemon.pid), "-batch", "-ex",
-                                "thread apply all bt 30"], stdout=f, stderr=subprocess.STDOUT,
-                               timeout=20, check=False)
-            except (OSError, subprocess.TimeoutExpired) as e:  # no ptrace in some sandboxes
-                f.write("gdb: %s\n" % e)
-        print("fovead's stacks: %s/fovead.stacks.txt" % self.out, flush=True)
-
     def sampler(self):
         while not self.stop.is_set():
             pid = self.daemon.pid
@@ -133,7 +149,7 @@ class Soak:
                 rss = int(re.search(r"VmRSS:\s+(\d+)", st).group(1))
                 thr = int(re.search(r"Threads:\s+(\d+)", st).group(1))
                 fds = len(os.listdir("/proc/%d/fd" % pid))
-                if not self.restarting and not self.bursting:  # bursts hold 1000 fds
+                if not self.restarting.is_set() and not self.bursting.is_set():  # bursts hold 1000 fds
                     self.resources.append((time.monotonic(), rss, fds, thr))
             except (OSError, AttributeError):
                 pass
@@ -145,10 +161,10 @@ class Soak:
                    b"{" * 5000 + b"\n", b"[1,2,3]\n", b'{"cmd": 7}\n', b'{"cmd":"nope"}\n',
                    b'{"cmd":"latency.report","hops":{"publish_to_read":{"count":1e300}}}\n']
         while not self.stop.wait(8.0):
-            if self.restarting or self.quiet.is_set():
+            if self.restarting.is_set() or self.quiet.is_set():
                 continue
             conns = []
-            self.bursting = True
+            self.bursting.set()
             for _ in range(1000):
                 try:
                     s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -183,7 +199,7 @@ class Soak:
             for s in conns:
                 s.close()
             time.sleep(0.5)  # the daemon closes its ends
-            self.bursting = False
+            self.bursting.clear()
 
     def reader(self, i, churn):
         name = "reader%d" % i
@@ -217,7 +233,6 @@ class Soak:
                     '[[device]]\ndriver = "gazepoint"\naddress = "127.0.0.1:%d"\n'
                     '[zmq]\npublish = "tcp://127.0.0.1:%d"\nsend_hwm = 1000000\n'
                     % (SIM_RATE_HZ, pty, gp_port, zmq_port))
-        self.restarting = False
         self.steady = []
         threading.Thread(target=self.periodic, daemon=True, args=(
             [self.fovea, "simulate", "serial", "--link", pty, "--corrupt", "0.01",
@@ -236,7 +251,12 @@ class Soak:
         r = self.request({"cmd": "record.start", "path": rec, "flush_ms": FLUSH_MS})
         if not r.get("ok"):
             raise SystemExit("record.start: %s" % r)
-        for fn in (self.prober, self.sampler) + (() if self.a.no_abuse else (self.abuser,)):
+        self.daemon_pid = self.mp.Value("i", self.daemon.pid)
+        self.prober = self.mp.Process(target=probe_status, daemon=True, args=(
+            self.sock, self.status_csv, self.t0, self.status_stop, self.restarting,
+            self.bursting, self.daemon_pid))
+        self.prober.start()
+        for fn in (self.sampler,) + (() if self.a.no_abuse else (self.abuser,)):
             threading.Thread(target=fn, daemon=True).start()
         end = time.monotonic() + self.a.minutes * 60
         while time.monotonic() < end:
@@ -250,16 +270,19 @@ class Soak:
         time.sleep(1.0)
         before = self.request({"cmd": "status"}, timeout=10.0)
         self.recorded_rate = (self.recorded(before) - self.recorded(first)) / 1.0
-        self.restarting = True
+        self.restarting.set()
         self.log_at_kill = os.path.getsize(self.out + "/fovead.log")
         self.daemon.send_signal(signal.SIGKILL)
         self.daemon.wait()
         killed_at = time.monotonic()
         self.start_daemon()
+        self.daemon_pid.value = self.daemon.pid
         restarted = time.monotonic()
-        self.restarting = False
+        self.restarting.clear()
         time.sleep(5.0)
         self.stop.set()
+        self.status_stop.set()
+        self.prober.join(10.0)
         return self.report(before, rec, killed_at, restarted)
 
     # ---- checks ----------------------------------------------------------------------------
@@ -359,10 +382,23 @@ class Soak:
 
     def report(self, before, rec, killed_at, restarted):
         lost = 0
-        ms = sorted(self.status_ms)
-        p99 = ms[min(len(ms) - 1, int(0.99 * len(ms)))] if ms else float("inf")
-        print("status: %d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms"
-              % (len(ms), ms[len(ms) // 2] if ms else 0, p99, ms[-1] if ms else 0))
+        rows = [r.split(",", 3) for r in open(self.status_csv).read().splitlines()[1:]]
+        for t, _, _, error in rows:
+            if error:
+                self.fail("status request failed at %s s: %s" % (t, error))
+
+        def percentiles(ms):
+            ms = sorted(ms)
+            if not ms:
+                return float("inf"), "none"
+            p99 = ms[min(len(ms) - 1, int(0.99 * len(ms)))]
+            return p99, "%d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms" % (
+                len(ms), ms[len(ms) // 2], p99, ms[-1])
+        answered = [(float(ms), b == "1") for _, ms, b, error in rows if not error]
+        p99, line = percentiles([ms for ms, _ in answered])
+        print("status: %s (timeline: %s)" % (line, self.status_csv))
+        print("status during abuse bursts: %s" % percentiles([m for m, b in answered if b])[1])
+        print("status between bursts: %s" % percentiles([m for m, b in answered if not b])[1])
         if p99 > 100.0:
             self.fail("status p99 %.1f ms > 100 ms" % p99)
         print("abuse: %(bursts)d bursts, %(connections)d connections, %(refused)d refused"
