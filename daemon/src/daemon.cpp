@@ -9,6 +9,7 @@
 
 #include <boost/asio/post.hpp>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <filesystem>
@@ -228,23 +229,42 @@ gaze::PipelineConfig Daemon::pipeline_config(const drivers::DriverInfo& info,
 }
 
 void Daemon::on_raw(Device& d, const gaze::RawSample& raw) {
-    if (d.raw_samples == 0) {
-        // Serial and Gazepoint trackers only state their clock and rate in the handshake that
-        // precedes the first sample: start the chain on what the device says, not the defaults.
-        const drivers::DriverInfo now = d.driver->describe();
-        if (now.clock.counter_bits != d.info.clock.counter_bits ||
-            now.clock.tick_hz != d.info.clock.tick_hz ||
-            now.nominal_rate_hz != d.info.nominal_rate_hz) {
-            d.pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(now, readers_attached_));
-            if (d.calibration) d.pipeline->set_calibration(*d.calibration);
-        }
-        d.info = now;
-    }
+    // Serial trackers state their clock and rate in the handshake that precedes the first
+    // sample: start the chain on what the device says, not the defaults.
+    if (d.raw_samples == 0) adopt_description(d);
     ++d.raw_samples;
     for (auto& o : raw_observers_) o(raw);
     d.pipeline->process(raw, scratch_);
     if (config_.publish == PublishMode::kLive && d.pipeline->latest(live_scratch_))
         publish_live(d, live_scratch_);
+    for (auto& s : scratch_) emit_final(d, s);
+}
+
+void Daemon::adopt_description(Device& d) {
+    const drivers::DriverInfo now = d.driver->describe();
+    // A measured rate wobbles by a hertz or so (a lost sample in its window): only a change
+    // of more than 10 % is a different tracker mode.
+    const double chain_rate = d.pipeline->config().nominal_rate_hz;
+    const double rate = pipeline_config(now, false).nominal_rate_hz;
+    if (now.clock.counter_bits != d.info.clock.counter_bits ||
+        now.clock.tick_hz != d.info.clock.tick_hz ||
+        std::fabs(rate - chain_rate) > 0.1 * chain_rate) {
+        // The chain counts its windows and look-ahead in samples: a new rate needs a new chain.
+        // The old one hands over what it holds first, so nothing is lost or reordered.
+        if (d.raw_samples > 0) {
+            d.pipeline->flush(scratch_);
+            for (auto& s : scratch_) emit_final(d, s);
+            log()->info("device {} ({}): {} Hz, clock {} Hz: gaze chain rebuilt", d.id, now.driver,
+                        now.nominal_rate_hz, now.clock.tick_hz);
+        }
+        d.pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(now, readers_attached_));
+        if (d.calibration) d.pipeline->set_calibration(*d.calibration);
+    }
+    d.info = now;
+}
+
+void Daemon::settle(Device& d) {
+    d.pipeline->settle(scratch_);
     for (auto& s : scratch_) emit_final(d, s);
 }
 
@@ -426,8 +446,12 @@ void Daemon::tick() {
     }
     static constexpr auto kTick = std::chrono::milliseconds(250);
     for (auto& d : devices_) {
-        if (d->raw_samples > 0) d->info = d->driver->describe();  // names from the handshake
+        // Names from the handshake; a rate some drivers measure only after the first samples.
+        if (d->raw_samples > 0) adopt_description(*d);
         const uint64_t n = d->raw_samples;
+        // A whole tick without a sample: the tracker paused. Its look-ahead would otherwise
+        // keep the last samples from the recording and the fan-out until it resumes.
+        if (n > 0 && n == d->rate_mark) settle(*d);
         d->measured_rate_hz =
             0.8 * d->measured_rate_hz + 0.2 * static_cast<double>(n - d->rate_mark) * 4.0;
         d->rate_mark = n;

@@ -74,6 +74,11 @@ private:
     // finished one, labelled after the look-ahead, only to the observers (emit_final).
     void publish_live(Device& d, gaze::GazeSample& s);
     void emit_final(Device& d, gaze::GazeSample& s);
+    // The device went quiet: its held samples, finished now, to the observers.
+    void settle(Device& d);
+    // Takes the driver's description (rate, clock) as it stands; rebuilds the gaze chain when
+    // the rate or clock changed.
+    void adopt_description(Device& d);
     void publish_head(Device& d, const drivers::HeadPose& pose);
     double lookahead_ms(const Device& d) const;
     // The gaze chain's configuration for a device as it describes itself.

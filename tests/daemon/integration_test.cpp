@@ -346,6 +346,22 @@ TEST_F(DaemonTest, GazepointTrackerOverTcpPublishesGaze) {
     ASSERT_TRUE(s.ok());
     EXPECT_EQ((*s)["devices"][0]["driver"], "gazepoint");
     EXPECT_TRUE((*s)["devices"][0]["connected"].get<bool>());
+
+    // The Open Gaze API never states the rate; the driver measures it from the first 257
+    // samples. The gaze chain must then run at 150 Hz, not at the 1 kHz it started from: its
+    // windows and its look-ahead are counted in samples.
+    for (int i = 0; i < 100; ++i) {
+        s = query("status");
+        ASSERT_TRUE(s.ok());
+        if ((*s)["devices"][0]["nominal_rate_hz"].get<double>() > 0 &&
+            (*s)["devices"][0]["samples"].get<uint64_t>() > 400)
+            break;
+        std::this_thread::sleep_for(100ms);
+    }
+    const json& dev = (*s)["devices"][0];
+    EXPECT_NEAR(dev["nominal_rate_hz"].get<double>(), 150.0, 1.0);
+    EXPECT_NEAR(dev["lookahead_ms"].get<double>(), 350.0, 15.0);
+    EXPECT_NEAR(dev["lookahead_samples"].get<double>(), 52.0, 2.0);
 }
 
 }  // namespace

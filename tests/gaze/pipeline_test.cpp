@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "synthetic.hpp"
@@ -53,6 +54,47 @@ TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
     EXPECT_EQ(emitted, s.in.size());
     EXPECT_TRUE(saw_landing);
     EXPECT_EQ(p.stats().samples_in, s.in.size());
+}
+
+// A tracker that pauses (a server restart, an unplugged cable) must not keep its last samples
+// back until it resumes: settle() decides every held sample at once, and the chain then goes on
+// with its look-ahead as before, each sample out exactly once and in order.
+TEST(Pipeline, SettleReleasesHeldSamplesAndTheChainGoesOn) {
+    PipelineConfig c;
+    c.nominal_rate_hz = 1000.0;
+    c.clock = DeviceClock{32, 1e6};
+    Pipeline p(c);
+    const auto s = test::make_synthetic(1000.0);
+    ASSERT_GT(s.in.size(), 3000u);
+    std::vector<GazeSample> out;
+    std::vector<int64_t> captured;
+    auto take = [&] {
+        for (const auto& g : out) captured.push_back(g.t_capture_ns);
+    };
+    const size_t pause_at = 1500;
+    for (size_t i = 0; i < pause_at; ++i) {
+        p.process(synthetic_raw(s, i, c.display), out);
+        take();
+    }
+    ASSERT_GT(pause_at - captured.size(), 10u) << "the look-ahead holds samples back";
+    p.settle(out);
+    take();
+    EXPECT_EQ(captured.size(), pause_at) << "settle leaves nothing held";
+    p.settle(out);
+    EXPECT_TRUE(out.empty()) << "a second settle has nothing to add";
+
+    size_t held_max = 0;
+    for (size_t i = pause_at; i < s.in.size(); ++i) {
+        p.process(synthetic_raw(s, i, c.display), out);
+        take();
+        held_max = std::max(held_max, i + 1 - captured.size());
+    }
+    EXPECT_GT(held_max, 10u) << "after the pause the look-ahead works again";
+    EXPECT_LE(held_max, static_cast<size_t>(p.lookahead_samples()) + 1);
+    p.flush(out);
+    take();
+    ASSERT_EQ(captured.size(), s.in.size());
+    for (size_t i = 1; i < captured.size(); ++i) ASSERT_GT(captured[i], captured[i - 1]) << i;
 }
 
 // The live path (fovead publish = "live"): the newest sample is there right after process(),

@@ -258,6 +258,51 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
     EXPECT_EQ(d->wait(5s), 0) << d->err();
 }
 
+// A tracker that goes quiet (its server stopped, a cable pulled) must not keep its last samples
+// in the detector's look-ahead until it comes back: within a second of the silence the fan-out
+// has carried the final version of every sample the ring carried.
+TEST_F(ZmqFanOut, ATrackerThatGoesQuietHasEverySampleCarried) {
+    auto sim = spawn(kFovea, {"simulate", "gazepoint", "--port", "0", "--rate", "150"});
+    std::string address;
+    for (int i = 0; i < 500 && address.empty(); ++i) {
+        std::this_thread::sleep_for(10ms);
+        const std::string out = sim->out();
+        if (out.find('\n') != std::string::npos) address = out.substr(0, out.find('\n'));
+    }
+    ASSERT_FALSE(address.empty()) << sim->err();
+    const auto cfg = write_file("quiet.toml",
+                                "[zmq]\npublish = \"tcp://127.0.0.1:*\"\n"
+                                "[[device]]\ndriver = \"gazepoint\"\naddress = \"" +
+                                    address + "\"\n");
+    auto d = start_daemon({"--config", cfg});
+    auto st = query("status");
+    ASSERT_TRUE(st.ok() && st->contains("zmq")) << d->err();
+    auto sub = daemon::ZmqGazeSubscriber::connect((*st)["zmq"]["endpoint"].get<std::string>());
+    ASSERT_TRUE(sub.ok()) << sub.error().message;
+    auto first = (*sub)->receive(5000);
+    ASSERT_TRUE(first.ok() && first->has_value()) << "no first message";
+
+    std::this_thread::sleep_for(500ms);
+    ASSERT_EQ(kill(sim->pid, SIGSTOP), 0);  // the connection stays open; nothing more comes
+    std::this_thread::sleep_for(300ms);     // what was in flight reaches the ring
+    fovea::Client ring(instance);
+    uint64_t newest = 0;
+    for (uint64_t cursor = 0;;) {
+        auto b = ring.read(cursor, 512);
+        if (b.records.empty()) break;
+        newest = b.records.back().index;
+    }
+    uint64_t last = (*first)->record.index;
+    for (;;) {
+        auto g = (*sub)->receive(1500);
+        ASSERT_TRUE(g.ok()) << g.error().message;
+        if (!g->has_value()) break;
+        last = (**g).record.index;
+    }
+    kill(sim->pid, SIGCONT);
+    EXPECT_EQ(last, newest) << "samples held back while the tracker was quiet";
+}
+
 TEST_F(ZmqFanOut, WatchSubscribesAndPrintsConsecutiveSamples) {
     auto d = start_publishing();
     ASSERT_FALSE(endpoint.empty()) << d->err();

@@ -314,7 +314,9 @@ class Soak:
         from a restarted daemon (indices starting again) followed."""
         first, restarted, last = [], False, -1
         for idx in self.watch_indices(path):
-            if idx + 10000 < last:  # devices interleave by < 1 s; a new ring starts at 0
+            # Devices interleave by < 1 s (a quiet device's held samples are settled within a
+            # tick); a new ring starts again at 0, far below where the old one was.
+            if idx + 10000 < last and 2 * idx < last:
                 restarted = True
             if restarted:
                 continue
@@ -322,9 +324,10 @@ class Soak:
             last = max(last, idx)
         return first, restarted
 
-    def check_zmq(self):
+    def check_zmq(self, publisher):
         """ZeroMQ carries each device's final samples (after the look-ahead), so devices
-        interleave; every ring index in the window both saw must arrive once."""
+        interleave; every ring index in the window both saw must arrive once. `publisher` is
+        the first fovead's [zmq] status: what it sent, and what it could not (full queue)."""
         ring, _ = self.indices("%s/reader%d.out" % (self.out, self.steady[0][0]))
         zmq, restarted = self.indices(self.out + "/zmq.out")
         if not zmq or not ring:
@@ -338,6 +341,8 @@ class Soak:
               "followed the restart: %s" % (len(zmq), missing,
                                             sum(1 for i in ring if lo <= i <= hi), lo, hi,
                                             dupes, restarted))
+        print("zmq publisher: %s sent, %s not sent (queue full)"
+              % (publisher.get("sent", "?"), publisher.get("failed", "?")))
         if dupes:
             self.fail("zmq delivered %d samples twice" % dupes)
         if not restarted:
@@ -440,7 +445,7 @@ class Soak:
             lost += gap
             if restarts < 1 or p.poll() is not None:
                 self.fail("reader%d did not follow the restarted fovead" % i)
-        lost += self.check_zmq()
+        lost += self.check_zmq(before.get("zmq", {}))
 
         subprocess.run([self.fovea, "repair", rec], env=self.env, check=False,
                        stdout=subprocess.DEVNULL)

@@ -112,6 +112,11 @@ void EventDetector::flush() {
     advance(true);
 }
 
+void EventDetector::settle() {
+    advance(true);
+    settled_ = n_;
+}
+
 void EventDetector::advance(bool flushing) {
     while (vel_next_ < n_ && (vel_next_ + k_ < n_ || flushing)) compute_velocity(vel_next_++);
     while (s2_next_ < vel_next_ && (s2_next_ + 1 < vel_next_ || flushing)) {
@@ -134,7 +139,7 @@ void EventDetector::advance(bool flushing) {
 
 bool EventDetector::pop(DetectorOutput& out) {
     if (emit_next_ >= s3_next_) return false;
-    if (!flushing_ && emit_next_ > n_ - 1 - lookahead_) return false;
+    if (!flushing_ && emit_next_ >= settled_ && emit_next_ > n_ - 1 - lookahead_) return false;
     const Entry& e = at(emit_next_);
     out.index = emit_next_;
     out.saccade = SaccadeInfo{};

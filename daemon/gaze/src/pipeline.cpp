@@ -265,6 +265,13 @@ void Pipeline::flush(std::vector<GazeSample>& out) {
     impl_->drain(out);
 }
 
+void Pipeline::settle(std::vector<GazeSample>& out) {
+    out.clear();
+    impl_->detector.settle();
+    impl_->drain(out);
+}
+
+const PipelineConfig& Pipeline::config() const { return impl_->config; }
 void Pipeline::set_predict_landing(bool on) { impl_->predict_landing = on; }
 int Pipeline::lookahead_samples() const { return impl_->detector.lookahead_samples(); }
 void Pipeline::set_calibration(const Calibration& c) { impl_->calibration = c; }

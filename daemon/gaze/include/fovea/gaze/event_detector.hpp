@@ -131,6 +131,9 @@ public:
     bool pop(DetectorOutput& out);
     // End of input: finish every held sample (then pop() drains them).
     void flush();
+    // Input paused (a tracker gone quiet): finish every held sample with what is known now, as
+    // flush() does, but keep accepting input; later samples get the look-ahead again.
+    void settle();
 
     int lookahead_samples() const { return lookahead_; }
     // A saccade in flight at the newest processed sample (for landing prediction).
@@ -224,6 +227,7 @@ private:
     int64_t stats_next_ = 0;  // online: next sample for the threshold statistics
     int64_t emit_next_ = 0;
     bool flushing_ = false;
+    int64_t settled_ = 0;  // samples below this index were finished by settle()
     static constexpr int64_t kBlock = 1 << 14;
     double anchor_t_ = 0.0, anchor_x_ = 0.0, anchor_y_ = 0.0;
     std::array<double, 6> run_{};

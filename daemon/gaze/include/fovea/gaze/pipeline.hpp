@@ -57,8 +57,13 @@ public:
     // finished samples, in order, to `out` (cleared first), and flush() drains the rest.
     void process(const RawSample& raw, std::vector<GazeSample>& out);
     void flush(std::vector<GazeSample>& out);
+    // The device paused: every held sample, finished with what is known now, to `out` (cleared
+    // first); process() may go on afterwards with the look-ahead as before.
+    void settle(std::vector<GazeSample>& out);
 
     void set_predict_landing(bool on);
+    // The configuration this chain was built with.
+    const PipelineConfig& config() const;
     // Look-ahead delay of online detection, in samples (bounded, reported in status).
     int lookahead_samples() const;
 
