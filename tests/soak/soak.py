@@ -341,7 +341,7 @@ class Soak:
               "followed the restart: %s" % (len(zmq), missing,
                                             sum(1 for i in ring if lo <= i <= hi), lo, hi,
                                             dupes, restarted))
-        print("zmq publisher: %s sent, %s not sent (queue full)"
+        print("zmq publisher: %s sent, %s failed to send"
               % (publisher.get("sent", "?"), publisher.get("failed", "?")))
         if dupes:
             self.fail("zmq delivered %d samples twice" % dupes)
