@@ -329,12 +329,7 @@ TEST_F(DaemonTest, SerialTrackerThroughAPtyPublishesGazeAndCountsDrops) {
 // The same through the Gazepoint Open Gaze API on loopback TCP.
 TEST_F(DaemonTest, GazepointTrackerOverTcpPublishesGaze) {
     auto sim = cli({"simulate", "gazepoint", "--port", "0", "--rate", "150"});
-    std::string address;
-    for (int i = 0; i < 500 && address.empty(); ++i) {
-        std::this_thread::sleep_for(10ms);
-        const std::string out = sim->out();
-        if (out.find('\n') != std::string::npos) address = out.substr(0, out.find('\n'));
-    }
+    const std::string address = sim->first_line();
     ASSERT_FALSE(address.empty()) << sim->err();
     const std::string cfg = dir + "/gp.toml";
     std::ofstream(cfg) << "[[device]]\ndriver = \"gazepoint\"\naddress = \"" << address << "\"\n";

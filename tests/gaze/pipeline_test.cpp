@@ -24,10 +24,16 @@ RawSample synthetic_raw(const test::Synthetic& s, size_t i, const DisplayGeometr
     return r;
 }
 
-TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
+// The chain as fovead builds it for that tracker: 1 kHz, the 32-bit 1 MHz counter.
+PipelineConfig synthetic_config() {
     PipelineConfig c;
     c.nominal_rate_hz = 1000.0;
     c.clock = DeviceClock{32, 1e6};
+    return c;
+}
+
+TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
+    const PipelineConfig c = synthetic_config();
     Pipeline p(c);
     const auto s = test::make_synthetic(1000.0);
     std::vector<GazeSample> out;
@@ -60,9 +66,7 @@ TEST(Pipeline, EverySampleComesOutOnceInOrderWithBoundedDelay) {
 // back until it resumes: settle() decides every held sample at once, and the chain then goes on
 // with its look-ahead as before, each sample out exactly once and in order.
 TEST(Pipeline, SettleReleasesHeldSamplesAndTheChainGoesOn) {
-    PipelineConfig c;
-    c.nominal_rate_hz = 1000.0;
-    c.clock = DeviceClock{32, 1e6};
+    const PipelineConfig c = synthetic_config();
     Pipeline p(c);
     const auto s = test::make_synthetic(1000.0);
     ASSERT_GT(s.in.size(), 3000u);
@@ -100,9 +104,7 @@ TEST(Pipeline, SettleReleasesHeldSamplesAndTheChainGoesOn) {
 // The live path (fovead publish = "live"): the newest sample is there right after process(),
 // finite, with causal labels only; the look-ahead's final labels arrive later through `out`.
 TEST(Pipeline, LatestIsTheNewestSampleWithCausalLabels) {
-    PipelineConfig c;
-    c.nominal_rate_hz = 1000.0;
-    c.clock = DeviceClock{32, 1e6};
+    const PipelineConfig c = synthetic_config();
     Pipeline p(c);
     GazeSample live;
     EXPECT_FALSE(p.latest(live));

@@ -263,12 +263,7 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
 // has carried the final version of every sample the ring carried.
 TEST_F(ZmqFanOut, ATrackerThatGoesQuietHasEverySampleCarried) {
     auto sim = spawn(kFovea, {"simulate", "gazepoint", "--port", "0", "--rate", "150"});
-    std::string address;
-    for (int i = 0; i < 500 && address.empty(); ++i) {
-        std::this_thread::sleep_for(10ms);
-        const std::string out = sim->out();
-        if (out.find('\n') != std::string::npos) address = out.substr(0, out.find('\n'));
-    }
+    const std::string address = sim->first_line();
     ASSERT_FALSE(address.empty()) << sim->err();
     const auto cfg = write_file("quiet.toml",
                                 "[zmq]\npublish = \"tcp://127.0.0.1:*\"\n"

@@ -52,6 +52,17 @@ struct ChildProcess {
 
     std::string out() const { return slurp_file(out_path); }
     std::string err() const { return slurp_file(err_path); }
+    // The first line written to stdout (without its newline), or "" if none came in `timeout`:
+    // the protocol simulators print the address they listen on there.
+    std::string first_line(std::chrono::milliseconds timeout = std::chrono::seconds(5)) const {
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        for (;;) {
+            const std::string o = out();
+            if (const auto nl = o.find('\n'); nl != std::string::npos) return o.substr(0, nl);
+            if (std::chrono::steady_clock::now() >= end) return "";
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    }
 
     // Exit code, or 128+signal; -1 on timeout (then the process is killed).
     int wait(std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
