@@ -38,7 +38,7 @@ vk::Image upload_rgba16f(const vk::Device& d, uint32_t w, uint32_t h,
     vk::Image out(d, {w, h}, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT);
     std::vector<uint8_t> bytes(rgba.size() * 2);
     for (size_t i = 0; i < rgba.size(); ++i) {
-        const uint16_t h16 = vk::test::float_to_half(rgba[i]);
+        const uint16_t h16 = fovea::half_bits(rgba[i]);
         std::memcpy(&bytes[2 * i], &h16, 2);
     }
     vk::upload_image(d, out.ref(), bytes);
@@ -175,7 +175,7 @@ std::vector<float> random_hdr(uint32_t w, uint32_t h, uint32_t seed) {
 demo::Rgb8 tonemapped(const std::vector<float>& rgba, uint32_t w, uint32_t h) {
     std::vector<uint8_t> bytes(rgba.size() * 2);
     for (size_t i = 0; i < rgba.size(); ++i) {
-        const uint16_t h16 = vk::test::float_to_half(rgba[i]);
+        const uint16_t h16 = fovea::half_bits(rgba[i]);
         std::memcpy(&bytes[2 * i], &h16, 2);
     }
     return demo::tonemap(bytes, w, h);

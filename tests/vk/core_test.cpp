@@ -18,8 +18,6 @@
 namespace fovea::vk {
 namespace {
 
-using test::half_to_float;
-
 // A cheap host shading function with per-pixel detail: what matters here is equality, not cost.
 constexpr const char* kTestShading = R"(
 vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) {
@@ -79,7 +77,7 @@ std::vector<float> read_rgba16f(const Device& device, const ImageRef& img) {
     for (size_t i = 0; i < out.size(); ++i) {
         uint16_t h;
         std::memcpy(&h, &raw[i * 2], 2);
-        out[i] = half_to_float(h);
+        out[i] = fovea::half_from_bits(h);
     }
     return out;
 }
@@ -329,7 +327,7 @@ TEST(CoarsePixelShading, FovealPixelsEqualFullRateReference) {
             const uint8_t r = tiles[(y / ts) * tiles_x + x / ts];
             uint16_t sh;
             std::memcpy(&sh, &rate[i * 2], 2);
-            rate_bad += half_to_float(sh) != normalized_rate(r);
+            rate_bad += fovea::half_from_bits(sh) != normalized_rate(r);
             for (int ch = 0; ch < 3; ++ch) {
                 const float d = std::abs(cps[i * 4 + ch] - ref[i * 4 + ch]);
                 if (r == 1)

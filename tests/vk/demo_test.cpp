@@ -9,8 +9,6 @@
 namespace fovea::demo {
 namespace {
 
-using vk::test::half_to_float;
-
 // The coarse pixel shader keeps the zone plate's frequencies the MAR line says the eye resolves
 // and removes those its coarse grid would alias: measured ring by ring against the model.
 TEST(ZonePlate, PeripheralAttenuationFollowsTheMarLine) {
@@ -43,7 +41,7 @@ TEST(ZonePlate, PeripheralAttenuationFollowsTheMarLine) {
         const auto raw = device->read_image(f->output());
         std::vector<float> g(kSize * kSize);
         for (size_t i = 0; i < g.size(); ++i)
-            g[i] = half_to_float(uint16_t(raw[i * 8] | raw[i * 8 + 1] << 8));
+            g[i] = fovea::half_from_bits(uint16_t(raw[i * 8] | raw[i * 8 + 1] << 8));
         return g;
     };
     const auto ref = render();
@@ -163,7 +161,7 @@ TEST(SceneRenderer, RasterizedGBufferMatchesThePixelRays) {
             return v;
         };
         auto f16 = [](const std::vector<uint8_t>& b, size_t i) {
-            return half_to_float(uint16_t(b[2 * i] | b[2 * i + 1] << 8));
+            return fovea::half_from_bits(uint16_t(b[2 * i] | b[2 * i + 1] << 8));
         };
         int sky = 0, terrain = 0, objects = 0, bad = 0;
         for (uint32_t y = 0; y < kH; ++y)

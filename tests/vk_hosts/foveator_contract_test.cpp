@@ -198,8 +198,8 @@ vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) { return host.tint.rgb + 0.0
             for (size_t i = 0; i < out.size(); i += 8) {
                 uint16_t h[3];
                 std::memcpy(h, &out[i], 6);
-                wrong += std::abs(test::half_to_float(h[0]) - 0.25f) > 1e-3f ||
-                         std::abs(test::half_to_float(h[2]) - 0.75f) > 1e-3f;
+                wrong += std::abs(fovea::half_from_bits(h[0]) - 0.25f) > 1e-3f ||
+                         std::abs(fovea::half_from_bits(h[2]) - 0.75f) > 1e-3f;
             }
             EXPECT_EQ(wrong, 0u) << m;
         }

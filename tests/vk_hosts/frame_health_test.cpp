@@ -20,8 +20,6 @@
 namespace fovea::vk {
 namespace {
 
-using test::half_to_float;
-
 struct Health {
     size_t non_finite = 0;         // channels
     size_t black_on_geometry = 0;  // pixels
@@ -38,7 +36,7 @@ Health health(const std::vector<uint8_t>& rgba16f, const std::vector<bool>& geom
         std::memcpy(c, &rgba16f[i * 8], 6);
         bool black = true;
         for (uint16_t v : c) {
-            const float f = half_to_float(v);
+            const float f = fovea::half_from_bits(v);
             h.non_finite += !std::isfinite(f);
             black &= f == 0.f;
         }

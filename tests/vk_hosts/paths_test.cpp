@@ -17,9 +17,6 @@
 namespace fovea::vk {
 namespace {
 
-using test::float_to_half;
-using test::half_to_float;
-
 constexpr uint32_t kW = 192, kH = 128;
 
 FoveatorConfig path_config(IntegrationPath path, std::vector<std::string> post = {}) {
@@ -44,8 +41,8 @@ std::vector<uint8_t> rgba16f(uint32_t w, uint32_t h,
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             const auto c = f(x, y);
-            uint16_t t[4] = {float_to_half(c[0]), float_to_half(c[1]), float_to_half(c[2]),
-                             float_to_half(1.f)};
+            uint16_t t[4] = {fovea::half_bits(c[0]), fovea::half_bits(c[1]), fovea::half_bits(c[2]),
+                             fovea::half_bits(1.f)};
             std::memcpy(&out[(size_t{y} * w + x) * 8], t, 8);
         }
     return out;
@@ -61,7 +58,8 @@ std::vector<uint8_t> filled(uint32_t w, uint32_t h, VkFormat format, const void*
 std::array<float, 4> texel16(const std::vector<uint8_t>& img, uint32_t w, uint32_t x, uint32_t y) {
     uint16_t t[4];
     std::memcpy(t, &img[(size_t{y} * w + x) * 8], 8);
-    return {half_to_float(t[0]), half_to_float(t[1]), half_to_float(t[2]), half_to_float(t[3])};
+    return {fovea::half_from_bits(t[0]), fovea::half_from_bits(t[1]), fovea::half_from_bits(t[2]),
+            fovea::half_from_bits(t[3])};
 }
 
 // Path 4: the host's frame passes through untouched without a chain, S_t is the acuity model's
@@ -96,7 +94,7 @@ TEST(PostOnlyPath, HostFramePassesThroughWithTheModelsRate) {
                                       std::min(y0 + ts, kH));
             uint16_t h;
             std::memcpy(&h, &rate[(size_t{y} * kW + x) * 2], 2);
-            mismatches += half_to_float(h) != normalized_rate(r);
+            mismatches += fovea::half_from_bits(h) != normalized_rate(r);
             coarse += r > 1.f;
         }
     EXPECT_EQ(mismatches, 0u);
@@ -257,8 +255,9 @@ TEST(PostOnlyPath, ReadsTheHostsOwnImagesInItsConventions) {
             std::memcpy(mh, &m[i * 4], 4);
             wrong += std::abs(col[0] - x / 255.f) > 1e-3f || std::abs(col[2] - 200 / 255.f) > 1e-3f;
             wrong += std::abs(dv - (1.f - depth[i])) > 1e-6f;  // 0 near .. 1 far
-            wrong += std::abs(half_to_float(mh[0]) - 3.f) > 1e-2f ||
-                     std::abs(half_to_float(mh[1]) + 1.5f) > 1e-2f;  // pixels, current - previous
+            wrong += std::abs(fovea::half_from_bits(mh[0]) - 3.f) > 1e-2f ||
+                     std::abs(fovea::half_from_bits(mh[1]) + 1.5f) >
+                         1e-2f;  // pixels, current - previous
         }
     EXPECT_EQ(wrong, 0u);
     EXPECT_EQ(device->read_image(f->output()), c);

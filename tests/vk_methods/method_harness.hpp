@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "fovea/half.hpp"
 #include "fovea/vk/acuity.hpp"
 #include "fovea/vk/device.hpp"
 #include "fovea/vk/foveator.hpp"
@@ -43,29 +44,6 @@ inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}
 inline Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
 inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline Vec3 normalize(Vec3 a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
-
-inline uint16_t to_half(float f) {
-    uint32_t x;
-    std::memcpy(&x, &f, 4);
-    const uint32_t s = (x >> 16) & 0x8000;
-    const int e = int((x >> 23) & 0xff) - 127 + 15;
-    const uint32_t m = x & 0x7fffff;
-    if (e <= 0) return uint16_t(s);
-    if (e >= 31) return uint16_t(s | 0x7c00);
-    return uint16_t(s | (uint32_t(e) << 10) | ((m + 0x1000) >> 13));
-}
-
-inline float from_half(uint16_t h) {
-    const uint32_t s = (h >> 15) & 1, e = (h >> 10) & 31, m = h & 1023;
-    float v;
-    if (e == 0)
-        v = std::ldexp(float(m), -24);
-    else if (e == 31)
-        v = m ? NAN : INFINITY;
-    else
-        v = std::ldexp(float(m | 1024), int(e) - 25);
-    return s ? -v : v;
-}
 
 // CPU ray caster: camera at the origin looking down -z, static (motion follows the contract:
 // unjittered texel centre minus the previous position of the jittered sample = -jitter).
@@ -134,7 +112,7 @@ public:
                 std::memcpy(&out[1][i * 16], st.data(), 16);
                 const float depth = hit ? float(1.0 - 0.1 / std::max(t, 0.1)) : 1.0f;
                 std::memcpy(&out[2][i * 4], &depth, 4);
-                const uint16_t mo[2] = {to_half(-jitter[0]), to_half(-jitter[1])};
+                const uint16_t mo[2] = {fovea::half_bits(-jitter[0]), fovea::half_bits(-jitter[1])};
                 std::memcpy(&out[3][i * 4], mo, 4);
             }
         return out;
@@ -238,7 +216,7 @@ public:
         for (std::size_t i = 0; i < f.rgba.size(); ++i) {
             uint16_t h;
             std::memcpy(&h, &raw[i * 2], 2);
-            f.rgba[i] = from_half(h);
+            f.rgba[i] = fovea::half_from_bits(h);
         }
         return f;
     }

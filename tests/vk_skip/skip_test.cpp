@@ -87,8 +87,8 @@ std::array<std::vector<uint8_t>, kGBufferImageCount> make_gbuffer(const View& v,
             std::memcpy(&out[1][i * 16], t.data(), 16);
             std::memcpy(&out[2][i * 4], &depth, 4);
             // Current minus previous position of the jittered sample (previous view unjittered).
-            const uint16_t mo[2] = {float_to_half(-jitter[0] - (v.pan_px - v.prev_pan_px)),
-                                    float_to_half(-jitter[1])};
+            const uint16_t mo[2] = {fovea::half_bits(-jitter[0] - (v.pan_px - v.prev_pan_px)),
+                                    fovea::half_bits(-jitter[1])};
             std::memcpy(&out[3][i * 4], mo, 4);
         }
     return out;
@@ -148,7 +148,7 @@ public:
             for (int c = 0; c < 3; ++c) {
                 uint16_t h;
                 std::memcpy(&h, &raw[(p * 4 + size_t(c)) * 2], 2);
-                s.rgb[p * 3 + size_t(c)] = half_to_float(h);
+                s.rgb[p * 3 + size_t(c)] = fovea::half_from_bits(h);
             }
         return s;
     }

@@ -21,9 +21,6 @@
 
 namespace fovea::vk::testing {
 
-inline uint16_t float_to_half(float f) { return post::half_bits(f); }
-inline float half_to_float(uint16_t h) { return post::half_from_bits(h); }
-
 inline int format_channels(VkFormat f) {
     switch (f) {
         case VK_FORMAT_R16G16B16A16_SFLOAT:
@@ -49,7 +46,7 @@ inline void upload(const Device& dev, const vk::Image& dst, const post::Image& i
             const float v =
                 c < img.channels ? img.data[i * img.channels + c] : (c == 3 ? 1.f : 0.f);
             if (half) {
-                static_cast<uint16_t*>(staging.data())[i * ch + c] = float_to_half(v);
+                static_cast<uint16_t*>(staging.data())[i * ch + c] = fovea::half_bits(v);
             } else {
                 static_cast<float*>(staging.data())[i * ch + c] = v;
             }
@@ -75,7 +72,7 @@ inline post::Image download(const Device& dev, const ImageRef& src, int keep_cha
             if (half) {
                 uint16_t h;
                 std::memcpy(&h, bytes.data() + (i * ch + c) * 2, 2);
-                v = half_to_float(h);
+                v = fovea::half_from_bits(h);
             } else {
                 std::memcpy(&v, bytes.data() + (i * ch + c) * 4, 4);
             }

@@ -4,24 +4,11 @@
 #include <limits>
 
 #include "fovea/demo/demo.hpp"
+#include "fovea/half.hpp"
 #include "fovea/metrics/image.hpp"
 
 namespace fovea::demo {
 namespace {
-
-float half_to_float(const uint8_t* p) {
-    uint16_t h;
-    std::memcpy(&h, p, 2);
-    const uint32_t s = (h >> 15) & 1, e = (h >> 10) & 31, m = h & 1023;
-    float v;
-    if (e == 0)
-        v = std::ldexp(static_cast<float>(m), -24);
-    else if (e == 31)
-        v = m ? std::numeric_limits<float>::quiet_NaN() : INFINITY;
-    else
-        v = std::ldexp(static_cast<float>(m | 1024), static_cast<int>(e) - 25);
-    return s ? -v : v;
-}
 
 uint8_t to_srgb8(float c) {
     if (!(c > 0.f)) return 0;
@@ -36,14 +23,14 @@ Rgb8 tonemap(const std::vector<uint8_t>& raw, uint32_t w, uint32_t h) {
     Rgb8 out{w, h, std::vector<uint8_t>(size_t{w} * h * 3)};
     for (size_t i = 0; i < size_t{w} * h; ++i)
         for (int c = 0; c < 3; ++c)
-            out.rgb[i * 3 + c] = to_srgb8(half_to_float(&raw[i * 8 + c * 2]));
+            out.rgb[i * 3 + c] = to_srgb8(fovea::half_from_bytes(&raw[i * 8 + c * 2]));
     return out;
 }
 
 Rgb8 rate_map(const std::vector<uint8_t>& raw, uint32_t w, uint32_t h) {
     Rgb8 out{w, h, std::vector<uint8_t>(size_t{w} * h * 3)};
     for (size_t i = 0; i < size_t{w} * h; ++i) {
-        const float s = half_to_float(&raw[i * 2]);
+        const float s = fovea::half_from_bytes(&raw[i * 2]);
         uint8_t* p = &out.rgb[i * 3];
         if (s >= 0.99f) {
             p[0] = 200;

@@ -2,14 +2,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fovea/half.hpp"
 #include "fovea/vk/gbuffer.hpp"
 #include "post/image_model.hpp"
 
 namespace fovea::vk {
 namespace {
 
-using post::half_bits;
-using post::half_from_bits;
+using fovea::half_bits;
+using fovea::half_from_bits;
 
 float sign_not_zero(float v) { return v >= 0.f ? 1.f : -1.f; }
 

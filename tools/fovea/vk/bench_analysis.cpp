@@ -5,6 +5,8 @@
 #include <cstring>
 #include <limits>
 
+#include "fovea/half.hpp"
+
 namespace fovea::bench {
 
 std::vector<size_t> pareto_front(const std::vector<CostError>& points) {
@@ -55,22 +57,6 @@ std::vector<float> luminance(const std::vector<uint8_t>& rgb, uint32_t width, ui
     return l;
 }
 
-namespace {
-
-float half_to_float(uint16_t h) {
-    const uint32_t e = (h >> 10) & 31u, m = h & 1023u;
-    float v;
-    if (e == 0)
-        v = std::ldexp(float(m), -24);
-    else if (e == 31)
-        v = m ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
-    else
-        v = std::ldexp(float(m | 1024u), int(e) - 25);
-    return (h & 0x8000u) ? -v : v;
-}
-
-}  // namespace
-
 std::vector<float> luminance_rgba16f(const std::vector<uint8_t>& rgba16f, uint32_t width,
                                      uint32_t height) {
     // demo::tonemap's curve (1 - e^-c, sRGB encode) without rounding to 8 bits.
@@ -86,7 +72,7 @@ std::vector<float> luminance_rgba16f(const std::vector<uint8_t>& rgba16f, uint32
         for (int k = 0; k < 3; ++k) {
             uint16_t h;
             std::memcpy(&h, rgba16f.data() + 8 * i + 2 * k, 2);
-            c[k] = encode(half_to_float(h));
+            c[k] = encode(fovea::half_from_bits(h));
         }
         l[i] = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
     }
@@ -98,7 +84,7 @@ std::vector<float> decode_rg16f(const std::vector<uint8_t>& rg16f) {
     for (size_t i = 0; i < out.size(); ++i) {
         uint16_t h;
         std::memcpy(&h, rg16f.data() + 2 * i, 2);
-        out[i] = half_to_float(h);
+        out[i] = fovea::half_from_bits(h);
     }
     return out;
 }

@@ -175,11 +175,11 @@ Result<std::vector<double>> time_gpu_pass(const vk::Device& dev, VkExtent2D e,
             const float d = 0.5f + 0.3f * std::cos(3.14159265f * (dx * dx + dy * dy) / float(w));
             const float lin = post::display_decode(d);
             const std::size_t i = std::size_t(y) * w + x;
-            for (int c = 0; c < 3; ++c) colour[i * 4 + c] = post::half_bits(lin);
-            colour[i * 4 + 3] = post::half_bits(1.0f);
+            for (int c = 0; c < 3; ++c) colour[i * 4 + c] = fovea::half_bits(lin);
+            colour[i * 4 + 3] = fovea::half_bits(1.0f);
             const float s_t = vk::normalized_rate(
                 vk::rate_at(display, acuity, gaze, float(x) + 0.5f, float(y) + 0.5f));
-            rate[i] = post::half_bits(gaze_on_screen ? s_t : 1.0f);
+            rate[i] = fovea::half_bits(gaze_on_screen ? s_t : 1.0f);
         }
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
     vk::Image color_in(dev, e, VK_FORMAT_R16G16B16A16_SFLOAT, usage);

@@ -5,20 +5,9 @@
 #include <cstring>
 
 #include <stb_image_write.h>  // Debian's libstb (pkg-config stb)
+#include <fovea/half.hpp>
 
 namespace gltfv {
-
-float half_to_float(uint16_t h) {
-    const uint32_t s = (h >> 15) & 1, e = (h >> 10) & 31, m = h & 1023;
-    float v;
-    if (e == 0)
-        v = std::ldexp(float(m), -24);
-    else if (e == 31)
-        v = m ? NAN : INFINITY;
-    else
-        v = std::ldexp(float(m | 1024), int(e) - 25);
-    return s ? -v : v;
-}
 
 namespace {
 
@@ -36,7 +25,7 @@ Rgb8 tonemap(const std::vector<uint8_t>& px, uint32_t w, uint32_t h) {
         for (int c = 0; c < 3; ++c) {
             uint16_t v;
             std::memcpy(&v, &px[i * 8 + size_t(c) * 2], 2);
-            const float f = half_to_float(v);
+            const float f = fovea::half_from_bits(v);
             out.rgb[i * 3 + size_t(c)] =
                 std::isfinite(f) ? to_srgb8(f / (1.f + std::max(f, 0.f))) : 0;
         }
@@ -48,7 +37,7 @@ Rgb8 rate_colours(const std::vector<uint8_t>& px, uint32_t w, uint32_t h) {
     for (size_t i = 0; i < size_t(w) * h; ++i) {
         uint16_t v;
         std::memcpy(&v, &px[i * 2], 2);
-        const float s = std::clamp(half_to_float(v), 0.f, 1.f);
+        const float s = std::clamp(fovea::half_from_bits(v), 0.f, 1.f);
         const uint8_t rgb[3] = {uint8_t(255 * std::max(0.f, 2 * s - 1)),
                                 uint8_t(255 * (1 - std::abs(2 * s - 1))),
                                 uint8_t(255 * std::max(0.f, 1 - 2 * s))};
@@ -69,7 +58,7 @@ FrameHealth frame_health(const std::vector<uint8_t>& px) {
         for (int c = 0; c < 3; ++c) {
             uint16_t v;
             std::memcpy(&v, &px[i + size_t(c) * 2], 2);
-            const float x = half_to_float(v);
+            const float x = fovea::half_from_bits(v);
             f.non_finite += !std::isfinite(x);
             black &= x == 0.f;
         }

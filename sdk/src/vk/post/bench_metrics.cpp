@@ -3,30 +3,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "fovea/half.hpp"
 #include "metrics_model.hpp"
 #include "saccade_model.hpp"
 #include "stability_model.hpp"
 
 namespace fovea::vk::post {
-
-namespace {
-
-float half_bits_to_float(std::uint16_t h) {
-    const std::uint32_t sign = (h & 0x8000u) << 16;
-    const std::uint32_t exp = (h >> 10) & 0x1fu;
-    const std::uint32_t man = h & 0x3ffu;
-    if (exp == 0) {
-        const float f = float(man) / 16777216.0f;
-        return sign ? -f : f;
-    }
-    const std::uint32_t b =
-        exp == 31 ? (sign | 0x7f800000u | man << 13) : (sign | (exp - 15 + 127) << 23 | man << 13);
-    float f;
-    std::memcpy(&f, &b, 4);
-    return f;
-}
-
-}  // namespace
 
 Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int height,
                         int stored_channels, int keep_channels) {
@@ -37,7 +19,7 @@ Image decode_half_image(const std::vector<std::uint8_t>& bytes, int width, int h
         for (int c = 0; c < keep_channels && c < stored_channels; ++c) {
             std::uint16_t h;
             std::memcpy(&h, bytes.data() + (i * stored_channels + c) * 2, 2);
-            img.data[i * keep_channels + c] = half_bits_to_float(h);
+            img.data[i * keep_channels + c] = half_from_bits(h);
         }
     }
     return img;

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <vector>
 
+#include "fovea/half.hpp"
+
 namespace fovea::vk::post {
 
 // Interleaved float image, row-major, `channels` floats per pixel.
@@ -96,54 +98,6 @@ inline float sample_trilinear(const MipChain& chain, float px, float py, float l
     };
     const float a = at_level(l0);
     return t > 0.0f ? a + (at_level(l1) - a) * t : a;
-}
-
-// Round a float to the nearest IEEE half and back (round-to-nearest-even; overflow → ±inf),
-// so the models can run the same arithmetic as rgba16f storage.
-inline float round_to_half(float v) {
-    if (!std::isfinite(v)) return v;
-    const float a = std::fabs(v);
-    if (a >= 65520.0f) return std::copysign(INFINITY, v);
-    if (a < 6.103515625e-05f) {  // subnormal half: fixed spacing 2^-24
-        return std::copysign(std::nearbyint(a * 16777216.0f) / 16777216.0f, v);
-    }
-    int e = 0;
-    std::frexp(a, &e);                           // a = m·2^e, m in [0.5, 1)
-    const float ulp = std::ldexp(1.0f, e - 11);  // 10 mantissa bits + implicit one
-    return std::copysign(std::nearbyint(a / ulp) * ulp, v);
-}
-
-// IEEE half bits of round_to_half(f) and back: uploads to and read-backs of rgba16f images.
-inline uint16_t half_bits(float f) {
-    const float r = round_to_half(f);
-    uint32_t b;
-    std::memcpy(&b, &r, 4);
-    const uint32_t sign = (b >> 16) & 0x8000u;
-    const uint32_t exp = (b >> 23) & 0xffu;
-    const uint32_t man = b & 0x7fffffu;
-    if (exp == 0xff) return uint16_t(sign | 0x7c00u | (man ? 0x200u : 0u));
-    const int e = int(exp) - 127 + 15;
-    if (e >= 31) return uint16_t(sign | 0x7c00u);
-    if (e <= 0) {  // subnormal (r is already rounded to the half grid)
-        const float a = std::fabs(r) * 16777216.0f;
-        return uint16_t(sign | uint32_t(a));
-    }
-    return uint16_t(sign | uint32_t(e) << 10 | man >> 13);
-}
-
-inline float half_from_bits(uint16_t h) {
-    const uint32_t sign = (h & 0x8000u) << 16;
-    const uint32_t exp = (h >> 10) & 0x1fu;
-    const uint32_t man = h & 0x3ffu;
-    float f;
-    if (exp == 0) {
-        f = float(man) / 16777216.0f;
-        return sign ? -f : f;
-    }
-    const uint32_t b =
-        exp == 31 ? (sign | 0x7f800000u | man << 13) : (sign | (exp - 15 + 127) << 23 | man << 13);
-    std::memcpy(&f, &b, 4);
-    return f;
 }
 
 // Rec. 709 luma weights; the models apply them to whatever space they are given.

@@ -11,5 +11,6 @@ if(NOT TARGET fovea_post_model)
         ${_post_dir}/bench_metrics.cpp
         ${_post_dir}/stability_model.cpp)
     target_include_directories(fovea_post_model PUBLIC ${_post_dir})
+    target_link_libraries(fovea_post_model PUBLIC fovea::headers)
     fovea_target_defaults(fovea_post_model)
 endif()

@@ -38,6 +38,4 @@ struct Psnr {
 Psnr psnr(const Rgb8& test, const Rgb8& reference, const fovea::vk::EyeDisplay& display,
           const fovea::vk::ResolvedGaze& gaze, float foveal_radius_deg);
 
-float half_to_float(uint16_t h);
-
 }  // namespace gltfv
