@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "fovea/runtime_dir.hpp"
+
 namespace fovea::daemon {
 namespace {
 
@@ -15,16 +17,7 @@ const char* env(const char* name) {
 
 }  // namespace
 
-std::string runtime_dir() {
-    if (const char* d = env("FOVEA_RUNTIME_DIR")) return d;
-    if (const char* d = env("RUNTIME_DIRECTORY")) {
-        std::string s = d;  // systemd may pass several, colon-separated: the first is ours
-        return s.substr(0, s.find(':'));
-    }
-    if (access("/run/fovea", W_OK) == 0) return "/run/fovea";
-    if (const char* d = env("XDG_RUNTIME_DIR")) return std::string(d) + "/fovea";
-    return "/tmp/fovea-" + std::to_string(getuid());
-}
+std::string runtime_dir() { return fovea::runtime_dir(); }
 
 std::string control_socket_path(const std::string& instance) {
     return runtime_dir() + "/" + instance + ".sock";

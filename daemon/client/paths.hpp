@@ -5,8 +5,7 @@
 
 namespace fovea::daemon {
 
-// $RUNTIME_DIRECTORY (systemd), else /run/fovea if writable or existing, else
-// $XDG_RUNTIME_DIR/fovea, else /tmp/fovea-<uid>. FOVEA_RUNTIME_DIR overrides all of them.
+// fovea::runtime_dir() (sdk/src/paths/fovea/runtime_dir.hpp owns the rule).
 std::string runtime_dir();
 std::string control_socket_path(const std::string& instance);
 std::string lock_file_path(const std::string& instance);

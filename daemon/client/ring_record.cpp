@@ -1,4 +1,4 @@
-#include "record_convert.hpp"
+#include "ring_record.hpp"
 
 #include <cmath>
 

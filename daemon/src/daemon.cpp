@@ -24,7 +24,7 @@
 #include "calibration_commands.hpp"
 #include "paths.hpp"
 #include "record_commands.hpp"
-#include "record_convert.hpp"
+#include "ring_record.hpp"
 #include "zmq_publisher.hpp"
 
 namespace fovea::daemon {

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "zmq_publisher.hpp"
+#include "zmq_gaze.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size == 0) return 0;

@@ -21,7 +21,7 @@
 #include "fovea/record/streams.hpp"
 #include "fovea/record/xdf.hpp"
 #include "gaze_format.hpp"
-#include "record_convert.hpp"
+#include "ring_record.hpp"
 
 namespace fovea::cli {
 namespace {

@@ -4,7 +4,7 @@
 #include "command.hpp"
 #include "gaze_format.hpp"
 #include "ring_session.hpp"
-#include "zmq_publisher.hpp"
+#include "zmq_gaze.hpp"
 
 namespace fovea::cli {
 namespace {

@@ -20,6 +20,7 @@
 
 #include "fovea/client.h"
 #include "fovea/latency_histogram.hpp"
+#include "fovea/runtime_dir.hpp"
 #include "last_error.hpp"
 
 using fovea::LatencyHistogram;
@@ -154,28 +155,6 @@ bool write_request(const fovea_frame_latency* fl, Writer& w, int coarsen_bits) {
           fl->frames_without_gaze.load(std::memory_order_relaxed),
           fl->stale_threshold_ns.load(std::memory_order_relaxed));
     return !w.overflow;
-}
-
-// fovead's runtime directory, chosen as daemon/src/paths.cpp runtime_dir() does.
-void runtime_dir(char* out, std::size_t cap) {
-    auto env = [](const char* n) -> const char* {
-        const char* v = std::getenv(n);
-        return v && *v ? v : nullptr;
-    };
-    if (const char* d = env("FOVEA_RUNTIME_DIR")) {
-        std::snprintf(out, cap, "%s", d);
-    } else if (const char* r = env("RUNTIME_DIRECTORY")) {
-        // systemd may pass several, colon-separated: the first is the daemon's
-        const char* colon = std::strchr(r, ':');
-        const int n = colon ? static_cast<int>(colon - r) : static_cast<int>(std::strlen(r));
-        std::snprintf(out, cap, "%.*s", n, r);
-    } else if (access("/run/fovea", W_OK) == 0) {
-        std::snprintf(out, cap, "/run/fovea");
-    } else if (const char* x = env("XDG_RUNTIME_DIR")) {
-        std::snprintf(out, cap, "%s/fovea", x);
-    } else {
-        std::snprintf(out, cap, "/tmp/fovea-%u", static_cast<unsigned>(getuid()));
-    }
 }
 
 bool valid_instance(const char* s) {
@@ -389,7 +368,7 @@ int fovea_frame_latency_report(const fovea_frame_latency* fl, const char* instan
     sockaddr_un addr{};
     addr.sun_family = AF_UNIX;
     char dir[sizeof addr.sun_path];
-    runtime_dir(dir, sizeof dir);
+    fovea::runtime_dir(dir, sizeof dir);
     const int n = std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s/%s.sock", dir, instance);
     if (n < 0 || static_cast<std::size_t>(n) >= sizeof addr.sun_path)
         return fail(FOVEA_E_INVALID_ARGUMENT, "control socket path too long: %s/%s.sock", dir,

@@ -1,0 +1,67 @@
+// Fovea gaze over ZeroMQ in the shape of Pupil Labs' network API, so Pupil-ecosystem consumers
+// on other machines can subscribe unchanged:
+//   multipart [topic, msgpack map], topics "gaze.2d.01." (binocular), "gaze.2d.0." (right eye
+//   only, Pupil's eye0), "gaze.2d.1." (left eye only, eye1); the map holds "topic", "norm_pos"
+//   (Pupil convention: origin bottom-left), "confidence" (1 tracked / 0 not: Fovea trackers report
+//   validity, not a confidence), "timestamp" (seconds of the host CLOCK_MONOTONIC at capture)
+//   and Fovea's own fields (index, event, t_*_ns, flags, device_id, left/right/combined eyes,
+//   saccade, landing).
+// The message format and the subscriber; fovead's publisher is daemon/src/zmq_publisher.hpp.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "fovea/result.hpp"
+#include "fovea/ring.h"
+
+namespace fovea::daemon {
+
+// "<what>: <zmq_strerror(zmq_errno())>", the error every ZeroMQ call here reports.
+std::string zmq_error(const std::string& what);
+
+// One decoded message. `record` is rebuilt from Fovea's fields when present; for a foreign
+// (e.g. real Pupil) publisher only combined norm (top-left origin) and t_capture_ns are set.
+struct ZmqGaze {
+    std::string topic;
+    double norm_pos[2] = {0, 0};  // as sent: Pupil convention, origin bottom-left
+    double confidence = 0;
+    double timestamp = 0;
+    bool fovea_fields = false;
+    fovea_gaze_record record{};
+};
+
+// The two frames of one Pupil-style message for a ring record. Pure; any thread.
+struct ZmqMessage {
+    std::string topic;
+    std::string payload;  // msgpack
+};
+ZmqMessage encode_pupil_gaze(const fovea_gaze_record& record);
+// Parse a message; an error for anything that is not a msgpack map with the Pupil keys.
+Result<ZmqGaze> decode_pupil_gaze(const std::string& topic, const std::string& payload);
+
+// The subscriber side (`fovea watch --zmq`, tests). One thread.
+class ZmqGazeSubscriber {
+public:
+    // Connect a SUB socket to `endpoint`, subscribed to topics starting with `prefix`.
+    static Result<std::unique_ptr<ZmqGazeSubscriber>> connect(const std::string& endpoint,
+                                                              const std::string& prefix = "gaze.");
+    ~ZmqGazeSubscriber();
+    ZmqGazeSubscriber(const ZmqGazeSubscriber&) = delete;
+    ZmqGazeSubscriber& operator=(const ZmqGazeSubscriber&) = delete;
+
+    // The next well-formed message, nullopt after `timeout_ms` without one. Malformed messages
+    // are skipped and counted.
+    Result<std::optional<ZmqGaze>> receive(int timeout_ms);
+    uint64_t malformed() const { return malformed_; }
+
+private:
+    ZmqGazeSubscriber() = default;
+    void* context_ = nullptr;
+    void* socket_ = nullptr;
+    uint64_t malformed_ = 0;
+};
+
+}  // namespace fovea::daemon
