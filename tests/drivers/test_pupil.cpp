@@ -90,11 +90,7 @@ Sim start_sim(const fs::path& dir, std::vector<std::string> extra) {
     Sim s;
     s.proc = fovea::testing::spawn_logged(fovea::testing::kFoveaBinary, args,
                                           (dir / "sim.out").string(), (dir / "sim.err").string());
-    for (int i = 0; i < 1000 * kSlowdown && s.address.empty(); ++i) {
-        std::this_thread::sleep_for(10ms);
-        const std::string out = s.proc->out();
-        if (out.find('\n') != std::string::npos) s.address = out.substr(0, out.find('\n'));
-    }
+    s.address = s.proc->first_line(10s * kSlowdown);
     return s;
 }
 
