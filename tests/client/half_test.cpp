@@ -34,9 +34,7 @@ TEST(Half, EveryHalfBitPatternWidensExactlyAndNarrowsBackToItself) {
         std::memcpy(&ref, &bits, 2);
         const float f = fovea::half_from_bits(bits);
         ASSERT_TRUE(same_float(f, static_cast<float>(ref))) << std::hex << h;
-        if (!std::isnan(f)) {
-            ASSERT_EQ(fovea::half_bits(f), bits) << std::hex << h;
-        }
+        if (!std::isnan(f)) { ASSERT_EQ(fovea::half_bits(f), bits) << std::hex << h; }
     }
 }
 
@@ -66,12 +64,12 @@ TEST(Half, RoundToHalfIsTheValueTheBitsStandFor) {
 }
 
 TEST(Half, EdgesOfTheRange) {
-    EXPECT_EQ(fovea::half_bits(65504.0f), 0x7bffu);          // largest half
-    EXPECT_EQ(fovea::half_bits(65519.996f), 0x7bffu);        // just under the tie
-    EXPECT_EQ(fovea::half_bits(65520.0f), 0x7c00u);          // tie, to even: inf
+    EXPECT_EQ(fovea::half_bits(65504.0f), 0x7bffu);    // largest half
+    EXPECT_EQ(fovea::half_bits(65519.996f), 0x7bffu);  // just under the tie
+    EXPECT_EQ(fovea::half_bits(65520.0f), 0x7c00u);    // tie, to even: inf
     EXPECT_EQ(fovea::half_bits(-INFINITY), 0xfc00u);
-    EXPECT_EQ(fovea::half_bits(std::ldexp(1.0f, -24)), 0x0001u);   // smallest subnormal
-    EXPECT_EQ(fovea::half_bits(std::ldexp(1.0f, -25)), 0x0000u);   // tie, to even: zero
+    EXPECT_EQ(fovea::half_bits(std::ldexp(1.0f, -24)), 0x0001u);  // smallest subnormal
+    EXPECT_EQ(fovea::half_bits(std::ldexp(1.0f, -25)), 0x0000u);  // tie, to even: zero
     EXPECT_EQ(fovea::half_bits(std::ldexp(1.5f, -25)), 0x0001u);
     EXPECT_EQ(fovea::half_bits(-0.0f), 0x8000u);
     EXPECT_TRUE(std::isnan(fovea::half_from_bits(fovea::half_bits(NAN))));

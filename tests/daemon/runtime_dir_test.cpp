@@ -70,8 +70,8 @@ TEST(RuntimeDir, WithoutSystemdFallsToRunThenXdgThenTmp) {
     const bool run_writable = access("/run/fovea", W_OK) == 0;
     EXPECT_EQ(fovea::runtime_dir(), run_writable ? "/run/fovea" : "/run/user/4242/fovea");
     env.set("XDG_RUNTIME_DIR", nullptr);
-    EXPECT_EQ(fovea::runtime_dir(), run_writable ? std::string("/run/fovea")
-                                                 : "/tmp/fovea-" + std::to_string(getuid()));
+    EXPECT_EQ(fovea::runtime_dir(),
+              run_writable ? std::string("/run/fovea") : "/tmp/fovea-" + std::to_string(getuid()));
 }
 
 TEST(RuntimeDir, ABufferTooSmallIsTruncatedAndReportsTheLengthItNeeded) {

@@ -15,7 +15,7 @@ inline float round_to_half(float f) {
     if (!std::isfinite(f)) return f;
     const float a = std::fabs(f);
     if (a >= 65520.0f) return std::copysign(INFINITY, f);  // halfway past 65504 rounds up
-    if (a < 6.103515625e-05f) {                             // subnormal half: spacing 2^-24
+    if (a < 6.103515625e-05f) {                            // subnormal half: spacing 2^-24
         return std::copysign(std::nearbyint(a * 16777216.0f) / 16777216.0f, f);
     }
     int e = 0;
