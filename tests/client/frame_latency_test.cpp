@@ -354,6 +354,32 @@ TEST(FrameLatency, ReportErrors) {
     EXPECT_EQ(fovea_frame_latency_report(fl.handle(), "bad/name", 100), FOVEA_E_INVALID_ARGUMENT);
 }
 
+// The reply is JSON, read as JSON: spacing is free, escapes are decoded, and a line that is not
+// an object is a refusal that quotes it.
+TEST(FrameLatency, TheDaemonsReplyIsReadAsJson) {
+    FrameLatency fl;
+    {
+        FakeDaemon d("fl-spaced");
+        d.serve("{ \"ok\" : true, \"accepted\": true }\n");
+        EXPECT_EQ(fovea_frame_latency_report(fl.handle(), "fl-spaced", 2000), FOVEA_OK)
+            << fovea_last_error();
+    }
+    {
+        FakeDaemon d("fl-escaped");
+        d.serve("{\"error\":\"hop \\\"x\\\" unknown\",\"ok\":false}\n");
+        EXPECT_EQ(fovea_frame_latency_report(fl.handle(), "fl-escaped", 2000), FOVEA_E_REJECTED);
+        EXPECT_NE(std::strstr(fovea_last_error(), "hop \"x\" unknown"), nullptr)
+            << fovea_last_error();
+    }
+    {
+        FakeDaemon d("fl-garbled");
+        d.serve("ok true\n");
+        EXPECT_EQ(fovea_frame_latency_report(fl.handle(), "fl-garbled", 2000), FOVEA_E_REJECTED);
+        EXPECT_NE(std::strstr(fovea_last_error(), "not a JSON object: ok true"), nullptr)
+            << fovea_last_error();
+    }
+}
+
 // Statistics and reports from another thread while the render thread records (TSan).
 TEST(FrameLatency, ReadersRunAlongsideTheRenderThread) {
     FakeDaemon d("fl-threads");

@@ -11,12 +11,13 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <cinttypes>
-#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <new>
+
+#include <rapidjson/document.h>
+#include <rapidjson/writer.h>
 
 #include "fovea/client.h"
 #include "fovea/latency_histogram.hpp"
@@ -87,74 +88,110 @@ bool resolve_time(int64_t& t) {
     return true;
 }
 
-// Appends printf output to a fixed buffer; remembers overflow instead of truncating silently.
-struct Writer {
+// RapidJSON output stream over a fixed buffer: remembers overflow instead of truncating
+// silently. RapidJSON (not nlohmann) because its writer and in-situ parser run on caller-supplied
+// memory, and this C ABI promises no allocation after create.
+struct FixedBuffer {
+    using Ch = char;
     char* buf;
     std::size_t cap;
     std::size_t len = 0;
     bool overflow = false;
 
-    void put(const char* fmt, ...) __attribute__((format(printf, 2, 3))) {
-        if (overflow) return;
-        va_list ap;
-        va_start(ap, fmt);
-        const int n = std::vsnprintf(buf + len, cap - len, fmt, ap);
-        va_end(ap);
-        if (n < 0 || static_cast<std::size_t>(n) >= cap - len) {
+    void Put(char c) {
+        if (len + 1 >= cap) {  // keep one byte for the NUL
             overflow = true;
             return;
         }
-        len += static_cast<std::size_t>(n);
+        buf[len++] = c;
     }
+    void Flush() {}
 };
+
+// Pools over stack memory for RapidJSON's bookkeeping; sized well past what one request or one
+// reply line needs, so the heap fallback (a larger document) never happens in practice.
+template <std::size_t N>
+struct Pool {
+    alignas(std::max_align_t) char bytes[N];
+    rapidjson::MemoryPoolAllocator<> allocator{bytes, sizeof bytes};
+};
+
+using JsonWriter = rapidjson::Writer<FixedBuffer, rapidjson::UTF8<>, rapidjson::UTF8<>,
+                                     rapidjson::MemoryPoolAllocator<>>;
 
 // One histogram in the form fovead's histogram_from_json() reads. With coarsen_bits > 0 the
 // counts of each group of 2^bits neighbouring sub-buckets go to the group's first bucket (an
 // octave holds 64 sub-buckets, so groups never cross octaves): the percentile error grows to
 // 2^bits / 64 of the value while count, sum, min and max stay exact.
-void write_histogram(Writer& w, const LatencyHistogram& h, int coarsen_bits) {
+void write_histogram(JsonWriter& w, const LatencyHistogram& h, int coarsen_bits) {
     const uint64_t count = h.count();
-    w.put("{\"count\":%" PRIu64 ",\"negative\":%" PRIu64 ",\"sum_ns\":%" PRIu64
-          ",\"min_ns\":%" PRIu64 ",\"max_ns\":%" PRIu64 ",\"buckets\":[",
-          count, h.negative(), h.sum_ns(), h.min_ns(), h.max_ns());
+    w.StartObject();
+    w.Key("count");
+    w.Uint64(count);
+    w.Key("negative");
+    w.Uint64(h.negative());
+    w.Key("sum_ns");
+    w.Uint64(h.sum_ns());
+    w.Key("min_ns");
+    w.Uint64(h.min_ns());
+    w.Key("max_ns");
+    w.Uint64(h.max_ns());
+    w.Key("buckets");
+    w.StartArray();
+    auto bucket = [&](int index, uint64_t c) {
+        w.StartArray();
+        w.Int(index);
+        w.Uint64(c);
+        w.EndArray();
+    };
     const int group = 1 << coarsen_bits;
     // A snapshot taken while the event thread records may hold a few more bucket counts than
     // `count`; the daemon rejects a mismatch, so stop adding once `count` is reached.
     uint64_t written = 0;
-    bool first = true;
     for (int i = 0; i < LatencyHistogram::kBucketCount && written < count; i += group) {
         uint64_t c = 0;
         for (int j = i; j < i + group && j < LatencyHistogram::kBucketCount; ++j)
             c += h.bucket_count(j);
         c = std::min(c, count - written);
         if (c == 0) continue;
-        w.put("%s[%d,%" PRIu64 "]", first ? "" : ",", i, c);
+        bucket(i, c);
         written += c;
-        first = false;
     }
     // ...and fewer if it raced the other way: put the rest in the max's bucket.
-    if (written < count)
-        w.put("%s[%d,%" PRIu64 "]", first ? "" : ",", LatencyHistogram::bucket_of(h.max_ns()),
-              count - written);
-    w.put("]}");
+    if (written < count) bucket(LatencyHistogram::bucket_of(h.max_ns()), count - written);
+    w.EndArray();
+    w.EndObject();
 }
 
-bool write_request(const fovea_frame_latency* fl, Writer& w, int coarsen_bits) {
-    w.put("{\"cmd\":\"latency.report\",\"hops\":{");
-    bool first = true;
+// The request line into out; false if it does not fit.
+bool write_request(const fovea_frame_latency* fl, FixedBuffer& out, int coarsen_bits) {
+    Pool<2048> stack;
+    JsonWriter w(out, &stack.allocator);
+    w.StartObject();
+    w.Key("cmd");
+    w.String("latency.report");
+    w.Key("hops");
+    w.StartObject();
     for (std::size_t i = 0; i < fl->hops.size(); ++i) {
         if (fl->hops[i].count() == 0) continue;
-        w.put("%s\"%s\":", first ? "" : ",", kHopNames[i]);
+        w.Key(kHopNames[i]);
         write_histogram(w, fl->hops[i], coarsen_bits);
-        first = false;
     }
-    w.put("},\"frames\":%" PRIu64 ",\"stale_frames\":%" PRIu64 ",\"frames_without_gaze\":%" PRIu64
-          ",\"stale_threshold_ns\":%" PRId64 "}\n",
-          fl->frames.load(std::memory_order_relaxed),
-          fl->stale_frames.load(std::memory_order_relaxed),
-          fl->frames_without_gaze.load(std::memory_order_relaxed),
-          fl->stale_threshold_ns.load(std::memory_order_relaxed));
-    return !w.overflow;
+    w.EndObject();
+    const auto counter = [&](const char* key, uint64_t v) {
+        w.Key(key);
+        w.Uint64(v);
+    };
+    counter("frames", fl->frames.load(std::memory_order_relaxed));
+    counter("stale_frames", fl->stale_frames.load(std::memory_order_relaxed));
+    counter("frames_without_gaze", fl->frames_without_gaze.load(std::memory_order_relaxed));
+    w.Key("stale_threshold_ns");
+    w.Int64(fl->stale_threshold_ns.load(std::memory_order_relaxed));
+    w.EndObject();
+    out.Put('\n');
+    if (out.overflow) return false;
+    out.buf[out.len] = '\0';
+    return true;
 }
 
 bool valid_instance(const char* s) {
@@ -187,25 +224,41 @@ int wait_fd(int fd, short events, int64_t deadline_ns) {
     }
 }
 
-// The daemon's reason from a reply line {"ok":false,"error":"..."} (JSON escapes kept as is).
-void copy_error(const char* reply, char* out, std::size_t cap) {
-    const char* e = std::strstr(reply, "\"error\":\"");
-    if (!e) {
-        const std::size_t n = std::min(std::strlen(reply), cap - 1);
-        std::memcpy(out, reply, n);
-        out[n] = '\0';
-        return;
-    }
-    e += 9;
+using ReplyDocument =
+    rapidjson::GenericDocument<rapidjson::UTF8<>, rapidjson::MemoryPoolAllocator<>,
+                               rapidjson::MemoryPoolAllocator<>>;
+
+// prefix + text into out, cut to fit.
+void put_text(char* out, std::size_t cap, const char* prefix, const char* text) {
     std::size_t n = 0;
-    for (; e[n] && n + 1 < cap; ++n) {
-        if (e[n] == '\\' && e[n + 1]) {
-            ++n;
-            continue;
-        }
-        if (e[n] == '"') break;
+    for (const char* p : {prefix, text})
+        for (; *p && n + 1 < cap; ++p) out[n++] = *p;
+    out[n] = '\0';
+}
+
+// What fovead said to a report: ok, or its reason. The reply is one line,
+// {"accepted":true,"ok":true} or {"error":"...","ok":false}; parsed in place (reply changes).
+bool reply_ok(char* reply, char* why, std::size_t cap) {
+    Pool<4096> values;
+    Pool<2048> stack;
+    ReplyDocument d(&values.allocator, 1024, &stack.allocator);
+    if (char* nl = std::strchr(reply, '\n')) *nl = '\0';
+    char copy[512];  // for the message: in-situ parsing rewrites the buffer
+    std::snprintf(copy, sizeof copy, "%s", reply);
+    d.ParseInsitu(reply);
+    if (d.HasParseError() || !d.IsObject()) {
+        put_text(why, cap, "not a JSON object: ", copy);
+        return false;
     }
-    std::snprintf(out, cap, "%.*s", static_cast<int>(n), e);
+    const auto ok = d.FindMember("ok");
+    if (ok != d.MemberEnd() && ok->value.IsBool() && ok->value.GetBool()) return true;
+    const auto error = d.FindMember("error");
+    if (error != d.MemberEnd() && error->value.IsString()) {
+        put_text(why, cap, "", error->value.GetString());
+    } else {
+        put_text(why, cap, "", copy);
+    }
+    return false;
 }
 
 }  // namespace
@@ -358,9 +411,9 @@ int fovea_frame_latency_report(const fovea_frame_latency* fl, const char* instan
     const int64_t deadline = now_ns() + int64_t{timeout_ms} * 1'000'000;
 
     // Coarsen the buckets until the request fits the daemon's limit (wide distributions only).
-    Writer w{fl->request, sizeof fl->request};
+    FixedBuffer w{fl->request, sizeof fl->request};
     for (int bits = 0; bits <= LatencyHistogram::kSubBucketBits; ++bits) {
-        w = Writer{fl->request, sizeof fl->request};
+        w = FixedBuffer{fl->request, sizeof fl->request};
         if (write_request(fl, w, bits)) break;
     }
     if (w.overflow) return fail(FOVEA_E_SYSTEM, "latency report does not fit in %zu bytes", w.cap);
@@ -421,9 +474,8 @@ int fovea_frame_latency_report(const fovea_frame_latency* fl, const char* instan
     }
     reply[got] = '\0';
     if (got == 0) return fail(FOVEA_E_SYSTEM, "fovead closed the connection without a reply");
-    if (std::strstr(reply, "\"ok\":true")) return FOVEA_OK;
     char why[200];
-    copy_error(reply, why, sizeof why);
+    if (reply_ok(reply, why, sizeof why)) return FOVEA_OK;
     return fail(FOVEA_E_REJECTED, "fovead refused the latency report: %s", why);
 }
 
