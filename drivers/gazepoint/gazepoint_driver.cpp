@@ -2,6 +2,7 @@
 // elements as they arrive, count CNT gaps, reconnect with backoff when the server goes away.
 #include "gazepoint/gazepoint_driver.hpp"
 
+#include "fovea/drivers/rate_meter.hpp"
 #include "fovea/drivers/support.hpp"
 
 #include <time.h>
@@ -74,7 +75,7 @@ public:
         info.driver = "gazepoint";
         info.name = "Gazepoint (Open Gaze API)";
         info.address = config_.host + ":" + config_.port;
-        info.nominal_rate_hz = config_.rate_hz > 0 ? config_.rate_hz : measured_rate_hz_;
+        info.nominal_rate_hz = config_.rate_hz > 0 ? config_.rate_hz : rate_.rate_hz();
         info.clock = {64, clock_.tick_hz > 0 ? clock_.tick_hz : config_.tick_hz};
         info.binocular = config_.gaze == GazeSource::kEyes;
         info.has_pupil = true;
@@ -224,15 +225,10 @@ private:
         sink_(*s);
     }
 
-    // Mean record interval from device time over 256-record windows (mutex held).
+    // The record's device time into the rate meter (mutex held).
     void update_rate(uint64_t ticks) {
         const double hz = clock_.tick_hz > 0 ? clock_.tick_hz : 1e6;
-        if (window_n_ == 0) window_start_ = ticks;
-        if (++window_n_ == 257) {
-            const double dt = static_cast<double>(ticks - window_start_) / hz / 256.0;
-            if (dt > 0) measured_rate_hz_ = std::round(1.0 / dt);
-            window_n_ = 0;
-        }
+        rate_.add(static_cast<double>(ticks) / hz);
     }
 
     void fail(const std::string& why) {
@@ -259,7 +255,6 @@ private:
             socket_.reset();
         }
         stream_.reset();
-        window_n_ = 0;
         std::lock_guard lock(mutex_);
         if (stats_.connected) backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
         stats_.connected = false;
@@ -282,14 +277,12 @@ private:
     bool ever_connected_ = false;
     bool have_cnt_ = false;
     uint64_t last_cnt_ = 0;
-    uint64_t window_start_ = 0;
-    int window_n_ = 0;
     LogLimiter connect_failures_{logger()}, bad_{logger()};
 
-    mutable std::mutex mutex_;  // guards stats_, clock_, measured_rate_hz_ (any-thread readers)
+    mutable std::mutex mutex_;  // guards stats_, clock_, rate_ (any-thread readers)
     DriverStats stats_;
     ServerClock clock_;
-    double measured_rate_hz_ = 0.0;
+    RateMeter rate_;
 };
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include <boost/asio/posix/stream_descriptor.hpp>
 
+#include "fovea/drivers/rate_meter.hpp"
 #include "fovea/drivers/support.hpp"
 #include "osc/osc_map.hpp"
 
@@ -73,7 +74,7 @@ public:
         info.name = "OSC eye tracker (" + assembler_.map().preset +
                     "; no device clock: stamped on receipt)";
         info.address = "udp:" + std::to_string(bound_port_ ? bound_port_ : port_);
-        info.nominal_rate_hz = rate_hz_;
+        info.nominal_rate_hz = rate_hz_ > 0 ? rate_hz_ : rate_.rate_hz();
         info.clock = {64, 1e9, true, 0.0};  // receipt time is the only clock
         info.binocular = true;
         info.has_pupil = false;
@@ -139,6 +140,7 @@ private:
             if (!s) return;
             ++stats_.samples;
             if (!s->left.valid && !s->right.valid) ++closed_;
+            rate_.add(static_cast<double>(t_receive) * 1e-9);
         }
         s->device_ticks = static_cast<uint64_t>(t_receive);
         s->t_receive_ns = t_receive;
@@ -156,6 +158,7 @@ private:
     std::shared_ptr<int> alive_;
     std::vector<double> values_;
     mutable std::mutex mutex_;  // guards what follows
+    RateMeter rate_;
     DriverStats stats_;
     int bound_port_ = 0;
     uint64_t unmapped_ = 0, closed_ = 0;
@@ -168,11 +171,12 @@ Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t 
     auto map = parse_address_map(config);
     if (!map) return map.error();
     int64_t port = 9000;
-    double rate = 120.0;
+    double rate = 0.0;  // measured
     if (auto r = read_key("osc", config, "port", port); !r) return r.error();
     if (auto r = read_key("osc", config, "rate_hz", rate); !r) return r.error();
     if (port < 0 || port > 65535) return make_error("osc: port must be 0..65535");
-    if (!(rate > 0 && rate <= 2000)) return make_error("osc: rate_hz must be 1..2000");
+    if (!(rate >= 0 && rate <= 2000))
+        return make_error("osc: rate_hz must be 1..2000 (or 0: measured)");
     return std::unique_ptr<Driver>(
         std::make_unique<OscDriver>(std::move(*map), static_cast<int>(port), rate, device_id));
 }

@@ -9,7 +9,8 @@
 namespace fovea::drivers::osc {
 
 // `[[device]]` keys: port (UDP, default 9000, the port VRChat listens on; 0 = any free port),
-// rate_hz (nominal rate the chain assumes; default 120), and the address map of osc_map.hpp:
+// rate_hz (the rate the chain assumes; default 0: measured from the receipt times, 1 kHz until
+// 256 frames have come), and the address map of osc_map.hpp:
 // preset, addresses, range, angle_deg, fov_deg, closed_above, lid_below.
 // OSC carries no device clock: samples are stamped on receipt.
 Result<std::unique_ptr<Driver>> make_driver(const toml::table& config, uint32_t device_id);

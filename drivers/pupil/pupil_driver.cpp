@@ -19,6 +19,7 @@
 
 #include <boost/asio/post.hpp>
 
+#include "fovea/drivers/rate_meter.hpp"
 #include "fovea/drivers/support.hpp"
 #include "fovea/import/pupil_datum.hpp"
 #include "pupil/pupil_remote.hpp"
@@ -75,7 +76,7 @@ public:
         info.driver = "pupil";
         info.name = "Pupil Capture" + (version_.empty() ? std::string() : " " + version_);
         info.address = config_.address;
-        info.nominal_rate_hz = config_.rate_hz;
+        info.nominal_rate_hz = config_.rate_hz > 0 ? config_.rate_hz : rate_.rate_hz();
         info.clock = {64, 1e9, true, offset_ ? offset_->uncertainty_s * 1e6 : 0.0};
         info.binocular = true;
         info.has_pupil = true;
@@ -257,6 +258,7 @@ private:
             offset_s = offset_ ? offset_->offset_s : 0.0;
             if (!s.left.valid && !s.right.valid) ++low_confidence_;
             ++stats_.samples;
+            rate_.add(d->timestamp);  // Pupil time: capture times, free of network jitter
         }
         const double host_ns = (d->timestamp - offset_s) * 1e9;
         s.device_ticks =
@@ -286,6 +288,7 @@ private:
     std::condition_variable wake_;
     std::chrono::steady_clock::time_point next_sync_{};  // worker thread only
     mutable std::mutex mutex_;                           // guards what follows
+    RateMeter rate_;
     DriverStats stats_;
     std::optional<ClockOffset> offset_;
     std::string version_, bus_;
@@ -330,7 +333,8 @@ Result<PupilConfig> parse_config(const toml::table& t) {
         return make_error("pupil: address must be \"tcp://HOST:PORT\", got '" + c.address + "'");
     if (!(c.min_confidence >= 0 && c.min_confidence <= 1))
         return make_error("pupil: min_confidence must be 0..1");
-    if (!(c.rate_hz > 0 && c.rate_hz <= 2000)) return make_error("pupil: rate_hz must be 1..2000");
+    if (!(c.rate_hz >= 0 && c.rate_hz <= 2000))
+        return make_error("pupil: rate_hz must be 1..2000 (or 0: measured)");
     if (!(c.sync_interval_s >= 0.1 && c.sync_interval_s <= 3600))
         return make_error("pupil: sync_interval_s must be 0.1..3600");
     if (rounds < 3 || rounds > 1000) return make_error("pupil: sync_rounds must be 3..1000");

@@ -13,7 +13,8 @@ namespace fovea::drivers::pupil {
 
 // `[[device]]` keys: address (Pupil Remote, default "tcp://127.0.0.1:50020"), topics (default
 // ["gaze.3d."]; also "gaze.2d.", "gaze." or "pupil."), min_confidence (0.6, Pupil's own),
-// rate_hz (nominal rate the chain's filters assume; default 200), sync_interval_s (how often the
+// rate_hz (the rate the chain's filters assume; default 0: measured from the datums' time
+// stamps, 1 kHz until 256 have come), sync_interval_s (how often the
 // clock is re-synced, default 5), sync_rounds ("t" round trips per sync, default 20),
 // set_pupil_clock (send "T" so Pupil time = host time; moves Pupil's clock under every other
 // client, so default false), request_timeout_ms (500), silence_s (no datum for this long: ask
@@ -23,7 +24,7 @@ struct PupilConfig {
     std::string address = "tcp://127.0.0.1:50020";
     std::vector<std::string> topics = {"gaze.3d."};
     double min_confidence = 0.6;
-    double rate_hz = 200.0;
+    double rate_hz = 0.0;  // 0: measured (RateMeter)
     double sync_interval_s = 5.0;
     int sync_rounds = 20;
     bool set_pupil_clock = false;

@@ -169,6 +169,8 @@ TEST(OscDriver, BothPresetsOverLoopbackUdpWithBlinks) {
         const auto end = std::chrono::steady_clock::now() + 20s * kSlowdown;
         while (got.size() < 300 && std::chrono::steady_clock::now() < end) io.run_for(20ms);
         EXPECT_EQ(sender->wait(), 0) << sender->err();
+        // OSC states no rate; the driver measures the sender's 300 Hz from receipt times.
+        EXPECT_NEAR((*d)->describe().nominal_rate_hz, 300.0, 45.0) << preset;
         (*d)->close();
         ASSERT_EQ(got.size(), 300u) << preset;
         int closed = 0;

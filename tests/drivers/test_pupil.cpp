@@ -7,12 +7,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <thread>
+#include <vector>
 
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
@@ -34,12 +36,22 @@ const fs::path kGaze = fs::path(FOVEA_SHARED_DATA_DIR) /
                        "recordings/pupil/vedb_pupil_recording_interface/tests_test_data/"
                        "binocular_only_gaze.pldata";
 
-// Records in the .npy beside the .pldata: 8 bytes each after the header.
-uint64_t npy_records(const fs::path& npy) {
+// The time stamps in the .npy beside the .pldata: little-endian float64 after the header.
+std::vector<double> npy_timestamps(const fs::path& npy) {
     std::ifstream in(npy, std::ios::binary);
     std::string d((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const std::size_t hl = static_cast<uint8_t>(d[8]) | static_cast<uint8_t>(d[9]) << 8;
-    return (d.size() - 10 - hl) / 8;
+    std::vector<double> t((d.size() - 10 - hl) / 8);
+    std::memcpy(t.data(), d.data() + 10 + hl, t.size() * 8);
+    return t;
+}
+
+// The recording's own rate: the median of its time-stamp intervals.
+double recorded_rate_hz(const std::vector<double>& t) {
+    std::vector<double> dt;
+    for (std::size_t i = 1; i < t.size(); ++i) dt.push_back(t[i] - t[i - 1]);
+    std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+    return 1.0 / dt[dt.size() / 2];
 }
 
 TEST(PupilTimeSync, DropsTheSlowestThirtyPercentAndUsesMidpoints) {
@@ -107,8 +119,9 @@ TEST(PupilDriver, EveryRecordedGazeDatumInOrderThroughFaultsAndRestarts) {
     if (!fs::exists(kGaze)) GTEST_SKIP() << "no " << kGaze;
     if (!fs::exists(fovea::testing::kFoveaBinary)) GTEST_SKIP() << "no fovea binary";
     Scratch tmp("drv");
-    const uint64_t want =
-        npy_records(fs::path(kGaze).replace_extension("").string() + "_timestamps.npy");
+    const std::vector<double> stamps =
+        npy_timestamps(fs::path(kGaze).replace_extension("").string() + "_timestamps.npy");
+    const uint64_t want = stamps.size();
     ASSERT_EQ(want, 665u);
     Sim sim = start_sim(tmp.dir, {"--garbage", "0.05", "--truncate", "0.05", "--restart", "0.7"});
     ASSERT_FALSE(sim.address.empty()) << sim.proc->err();
@@ -139,6 +152,11 @@ TEST(PupilDriver, EveryRecordedGazeDatumInOrderThroughFaultsAndRestarts) {
     EXPECT_GE(st.figures.at("clock_syncs"), 2.0);
     EXPECT_LT(st.figures.at("clock_uncertainty_us"), 50'000.0 * kSlowdown);
     EXPECT_EQ(st.notes.at("version"), "unknown");  // the file has no info.player.json beside it
+    // Pupil's API never states its rate; the driver measures it (a 400 Hz recording, where the
+    // old fixed default of 200 Hz put every window of the gaze chain off by 2x).
+    const double recorded = recorded_rate_hz(stamps);
+    EXPECT_NEAR(recorded, 399.4, 0.5);
+    EXPECT_NEAR((*d)->describe().nominal_rate_hz, recorded, 1.0);
     std::printf(
         "pupil: %zu samples, %llu dropped, %llu reconnects, clock offset %.6f s +- %.0f us "
         "(sd %.0f us, rtt %.0f us)\n",
