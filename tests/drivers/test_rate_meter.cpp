@@ -24,9 +24,9 @@ TEST(RateMeter, GapsAndBurstsDoNotMoveIt) {
     RateMeter m;
     double t = 0;
     for (int i = 0; i < 4 * RateMeter::kWindow; ++i) {
-        t += i % 40 == 39 ? 0.5 : 1.0 / 150.0;     // a reconnect every 40 samples
+        t += i % 40 == 39 ? 0.5 : 1.0 / 150.0;  // a reconnect every 40 samples
         m.add(t);
-        if (i % 60 == 0) m.add(t + 1e-6);           // a datagram that came in a pair
+        if (i % 60 == 0) m.add(t + 1e-6);  // a datagram that came in a pair
     }
     EXPECT_EQ(m.rate_hz(), 150.0);
 }
@@ -46,7 +46,7 @@ TEST(RateMeter, TimesThatAreNotFiniteOrGoBackAreSkipped) {
         t += 0.001;
         m.add(t);
         if (i % 10 == 0) m.add(NAN);
-        if (i % 17 == 0) m.add(t - 0.5);    // an older datum arriving late
+        if (i % 17 == 0) m.add(t - 0.5);  // an older datum arriving late
         if (i % 23 == 0) m.add(INFINITY);
     }
     EXPECT_EQ(m.rate_hz(), 1000.0);
