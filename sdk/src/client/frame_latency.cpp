@@ -250,11 +250,11 @@ bool reply_ok(char* reply, char* why, std::size_t cap) {
         put_text(why, cap, "not a JSON object: ", copy);
         return false;
     }
-    const auto ok = d.FindMember("ok");
-    if (ok != d.MemberEnd() && ok->value.IsBool() && ok->value.GetBool()) return true;
-    const auto error = d.FindMember("error");
-    if (error != d.MemberEnd() && error->value.IsString()) {
-        put_text(why, cap, "", error->value.GetString());
+    // HasMember + operator[], not FindMember != MemberEnd: RapidJSON 1.1's member iterators
+    // compare ambiguously under C++20 (clang's -Wambiguous-reversed-operator).
+    if (d.HasMember("ok") && d["ok"].IsBool() && d["ok"].GetBool()) return true;
+    if (d.HasMember("error") && d["error"].IsString()) {
+        put_text(why, cap, "", d["error"].GetString());
     } else {
         put_text(why, cap, "", copy);
     }
