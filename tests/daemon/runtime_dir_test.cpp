@@ -89,6 +89,15 @@ TEST(RuntimeDir, APathLongerThanTheStringsFirstGuessIsWhole) {
     EXPECT_EQ(fovea::runtime_dir(), deep);
 }
 
+TEST(RuntimeDir, TheStateDirectoryTakesSystemdsFirstEntryToo) {
+    ScopedEnv env;
+    env.set("FOVEA_STATE_DIR", nullptr);
+    env.set("STATE_DIRECTORY", "/var/lib/fovea-a:/var/lib/fovea-b");
+    EXPECT_EQ(fovea::daemon::state_dir(), "/var/lib/fovea-a");
+    env.set("FOVEA_STATE_DIR", "/srv/state");
+    EXPECT_EQ(fovea::daemon::state_dir(), "/srv/state");
+}
+
 TEST(RuntimeDir, TheDaemonsSocketAndLockLiveThere) {
     ScopedEnv env;
     env.set("FOVEA_RUNTIME_DIR", "/srv/f");

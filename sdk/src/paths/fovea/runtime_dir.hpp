@@ -12,12 +12,20 @@
 
 namespace fovea {
 
-namespace runtime_dir_detail {
+// The pieces of the rule that fovead's state directory follows too (daemon/client/paths.cpp).
+namespace dir_rules {
+// The variable's value, or nullptr when it is unset or empty.
 inline const char* env(const char* name) {
     const char* v = std::getenv(name);
     return v && *v ? v : nullptr;
 }
-}  // namespace runtime_dir_detail
+// Length of the first entry of a colon-separated systemd list ($RUNTIME_DIRECTORY,
+// $STATE_DIRECTORY: a unit naming several directories gets them all; the first is ours).
+inline std::size_t first_entry_length(const char* list) {
+    const char* colon = std::strchr(list, ':');
+    return colon ? std::size_t(colon - list) : std::strlen(list);
+}
+}  // namespace dir_rules
 
 // FOVEA_RUNTIME_DIR if set; else the first entry of $RUNTIME_DIRECTORY (systemd's
 // RuntimeDirectory=, colon-separated when a unit names several); else /run/fovea if writable;
@@ -25,13 +33,10 @@ inline const char* env(const char* name) {
 // Writes it NUL-terminated into out and returns snprintf's count: >= cap means truncated.
 // Allocates nothing (the client library calls it behind a C ABI). Thread-safe as getenv is.
 inline int runtime_dir(char* out, std::size_t cap) {
-    using runtime_dir_detail::env;
+    using dir_rules::env;
     if (const char* d = env("FOVEA_RUNTIME_DIR")) return std::snprintf(out, cap, "%s", d);
-    if (const char* r = env("RUNTIME_DIRECTORY")) {
-        const char* colon = std::strchr(r, ':');
-        const int n = colon ? int(colon - r) : int(std::strlen(r));
-        return std::snprintf(out, cap, "%.*s", n, r);
-    }
+    if (const char* r = env("RUNTIME_DIRECTORY"))
+        return std::snprintf(out, cap, "%.*s", int(dir_rules::first_entry_length(r)), r);
     if (access("/run/fovea", W_OK) == 0) return std::snprintf(out, cap, "/run/fovea");
     if (const char* x = env("XDG_RUNTIME_DIR")) return std::snprintf(out, cap, "%s/fovea", x);
     return std::snprintf(out, cap, "/tmp/fovea-%u", unsigned(getuid()));
