@@ -127,6 +127,52 @@ std::vector<DetectorOutput> detect(const Script& s) {
     return EventDetector::detect_offline(s.in, {}, Script::kRate);
 }
 
+// Pursuit that speeds up past the peak threshold (35 deg/s against the 30 deg/s floor of a
+// quiet tracker) and slows down again is still pursuit: a saccade is judged on the speed
+// relative to the eye's own motion just before it.
+TEST(EventDetector, FastPursuitIsNoSaccade) {
+    Script s;
+    s.fixate(3.0);
+    const size_t pursuit_start = s.size();
+    double speed = 0.0;
+    auto pursue = [&](double secs, double accel_dps2) {
+        for (int i = 0; i < std::lround(secs * Script::kRate); ++i) {
+            speed = std::clamp(speed + accel_dps2 / Script::kRate, 0.0, 35.0);
+            s.y += speed / Script::kRate;
+            s.sample();
+        }
+    };
+    pursue(0.6, 150.0);  // 0 -> 35 deg/s over 233 ms, then steady
+    pursue(0.4, -150.0);
+    const size_t pursuit_end = s.size();
+    s.fixate(3.0);
+
+    // The thresholds of a quiet tracker whose recording is mostly fixation (N&H over this
+    // short script would rise above the pursuit's speed).
+    auto saccade_samples = [&](const DetectorParams& p) {
+        EventDetector d(p, Script::kRate, DetectorMode::kOffline);
+        d.set_thresholds({30.0, 15.0, 0.01});
+        std::vector<DetectorOutput> out;
+        DetectorOutput o;
+        for (const auto& in : s.in) {
+            d.push(in);
+            while (d.pop(o)) out.push_back(o);
+        }
+        d.flush();
+        while (d.pop(o)) out.push_back(o);
+        EXPECT_EQ(out.size(), s.size());
+        int n = 0;
+        for (size_t i = pursuit_start; i < pursuit_end && i < out.size(); ++i)
+            n += out[i].event == Event::kSaccade;
+        return n;
+    };
+    EXPECT_EQ(saccade_samples({}), 0);
+    // The absolute speed (the old rule) takes the fast pursuit for saccades.
+    DetectorParams absolute;
+    absolute.relative_window_s = 0.0;
+    EXPECT_GT(saccade_samples(absolute), 20);
+}
+
 // The eye overshoots and turns back while its other component keeps moving (a hooked saccade
 // end, as in the lund2013 dots recordings): its speed never falls to a minimum below the
 // offset threshold (0.2 x ~430 deg/s peak), but the saccade is over when the velocity reverses

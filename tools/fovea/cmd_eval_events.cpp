@@ -1,10 +1,10 @@
-// `fovea eval-events DIR [--mode online|offline] [--json] [--cv dataset]`: agreement of the gaze
-// chain's events with hand-labelled recordings, every dataset found under DIR (one dataset's
-// folder or ../shared/data) scored on its own: Cohen's kappa per sample and event (Andersson et
-// al. 2017), sample F1 and event F1 (IoU >= 0.5; Hooge et al. 2018, Startsev et al. 2019), per
-// stimulus type and coder, next to the coders' agreement with each other. `--cv dataset` refits
-// the detector's fitted constants without each dataset and scores it with them (held out) beside
-// the shipped constants (in sample).
+// `fovea eval-events DIR [--mode online|offline] [--json] [--cv dataset] [--detector K=V]...`:
+// agreement of the gaze chain's events with hand-labelled recordings, every dataset found under DIR
+// (one dataset's folder or ../shared/data) scored on its own: Cohen's kappa per sample and event
+// (Andersson et al. 2017), sample F1 and event F1 (IoU >= 0.5; Hooge et al. 2018, Startsev et al.
+// 2019), per stimulus type and coder, next to the coders' agreement with each other. `--cv dataset`
+// refits the detector's fitted constants without each dataset and scores it with them (held out)
+// beside the shipped constants (in sample).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +18,7 @@
 #include "fovea/eval/cv.hpp"
 #include "fovea/eval/dataset.hpp"
 #include "fovea/eval/detect.hpp"
+#include "fovea/eval/detector_params.hpp"
 #include "fovea/eval/scoring.hpp"
 
 namespace fovea::cli {
@@ -32,6 +33,7 @@ struct Options {
     bool per_file = false;
     std::string dump_dir;
     double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
+    std::vector<std::string> detector;  // KEY=VALUE overrides of DetectorParams
     int threads = 0;
 };
 
@@ -284,6 +286,12 @@ int run(const Options& o) {
     for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
     gaze::DetectorParams params;
     params.lookahead_s = o.lookahead_ms * 1e-3;
+    for (const std::string& a : o.detector) {
+        if (auto r = eval::set_detector_param(params, a); !r) {
+            std::fprintf(stderr, "eval-events: %s\n", r.error().message.c_str());
+            return 2;
+        }
+    }
     const int threads = o.threads > 0
                             ? o.threads
                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -393,6 +401,9 @@ void setup(CLI::App& app) {
                    "directory");
     app.add_option("--lookahead-ms", o->lookahead_ms,
                    "Online mode: look-ahead bound in ms (the daemon's setting)");
+    app.add_option("--detector", o->detector,
+                   "KEY=VALUE: override one detector constant for this run (repeatable; "
+                   "with --cv it replaces the shipped value that 'in sample' scores)");
     app.add_option("--threads", o->threads, "Worker threads (default: one per core)");
     app.callback([o] {
         const int rc = run(*o);

@@ -485,12 +485,40 @@ void EventDetector::stage_saccades(int64_t c) {
         }
         case State::kIdle: break;
     }
-    if (v > peak_) {
+    if (v > peak_ && relative_speed(c) > peak_) {
         start_saccade(c);
         return;
     }
     e.label = Label::kInter;
     update_noise(c);
+}
+
+double EventDetector::relative_speed(int64_t c) const {
+    // The eye's own velocity just before the rise (the samples before the first one above the
+    // onset threshold): during pursuit a saccade is a jump on top of that motion, and the
+    // pursuit's speed alone must not pass the peak threshold. At fixation it is ~0.
+    const Entry& e = at(c);
+    if (p_.relative_window_s <= 0) return e.v;
+    // The rise is at most a short saccade's length: during pursuit the speed may sit above the
+    // onset threshold all along, and the walk must not reach back to the fixation before it.
+    const int64_t lo = std::max(emit_next_, base_);
+    int64_t j = c;
+    while (j - 1 >= lo && is_inter(at(j - 1).label) && std::isfinite(at(j - 1).v) &&
+           at(j - 1).v > onset_ && e.t - at(j - 1).t <= p_.min_saccade_s) {
+        --j;
+    }
+    double sx = 0, sy = 0;
+    int m = 0;
+    const double t0 = at(j).t;
+    for (int64_t i = j - 1; i >= lo && t0 - at(i).t <= p_.relative_window_s; --i) {
+        const Entry& q = at(i);
+        if (!is_inter(q.label) || !std::isfinite(q.v)) break;
+        sx += q.vx;
+        sy += q.vy;
+        ++m;
+    }
+    if (m < 3) return e.v;
+    return std::hypot(e.vx - sx / m, e.vy - sy / m);
 }
 
 double EventDetector::window_speed(int64_t lo, int64_t hi) const {

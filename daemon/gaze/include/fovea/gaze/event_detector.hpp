@@ -51,7 +51,9 @@ struct DetectorParams {
     double peak_sd = 6.0;
     double onset_sd = 3.0;
     // Floor of the peak threshold for very quiet trackers (fitted: eval/cv.hpp); the onset
-    // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6).
+    // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6). Offline,
+    // the relative speed below makes a floor under 30 cost nothing (microsaccades would gain);
+    // online it lets the learning statistic pass pursuit (daemon/eval/README.md).
     double min_peak_dps = 30.0;
     int onset_extra_samples = 0;        // walk back past the threshold to the minimum
     double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
@@ -65,6 +67,13 @@ struct DetectorParams {
     // global onset threshold, and the saccade would swallow its PSO and the pursuit after it.
     double local_noise_window_s = 0.040;
     double local_noise_sd = 3.0;
+    // A saccade's peak is judged relative to the eye's mean velocity over this window before
+    // its rise (N&H's local window): pursuit carries the eye, and its speed alone is no saccade;
+    // at fixation the mean is ~0. 0: absolute speed.
+    double relative_window_s = 0.040;
+    // Shortest saccade. Engbert & Kliegl's (2003) 6 ms keeps microsaccades offline, but online
+    // (what fovead runs) anything under 10 ms costs Lund's moving-dot fixations .03 kappa
+    // against offline (daemon/eval/README.md).
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
@@ -193,6 +202,7 @@ private:
     void set_saccade_direction(const Entry& e);
     void finish_record(int64_t id, int64_t last);
     double local_noise_before(int64_t onset) const;
+    double relative_speed(int64_t c) const;
     void mark_blink_back(int64_t c);
     void update_stats(double v, double dt);
     void feed_stats(int64_t i);
