@@ -3,11 +3,11 @@
 #include "gazepoint/gazepoint_driver.hpp"
 
 #include "fovea/drivers/rate_meter.hpp"
+#include "fovea/drivers/reconnector.hpp"
 #include "fovea/drivers/support.hpp"
 
 #include <time.h>
 
-#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -43,28 +43,26 @@ Result<void> read_key(const toml::table& t, const char* key, T& out) {
 class GazepointDriver final : public Driver {
 public:
     GazepointDriver(const GazepointConfig& config, uint32_t device_id)
-        : config_(config), device_id_(device_id) {}
+        : config_(config),
+          device_id_(device_id),
+          reconnect_(std::chrono::milliseconds(config.reconnect_min_ms),
+                     std::chrono::milliseconds(config.reconnect_max_ms)) {}
     ~GazepointDriver() override { close(); }
 
     Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
         io_ = &io;
         sink_ = std::move(sink);
-        alive_ = std::make_shared<int>(0);
-        retry_timer_.emplace(io);
         connect_timer_.emplace(io);
         resolver_.emplace(io);
-        backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
-        connect();
+        reconnect_.start(io, [this] { connect(); });  // connects now, retries on failure
         return {};
     }
 
     void close() override {
-        alive_.reset();
-        if (retry_timer_) retry_timer_->cancel();
+        reconnect_.stop();
         if (connect_timer_) connect_timer_->cancel();
         if (resolver_) resolver_->cancel();
         drop_socket();
-        retry_timer_.reset();
         connect_timer_.reset();
         resolver_.reset();
     }
@@ -92,7 +90,7 @@ private:
         ++generation_;
         resolver_->async_resolve(
             config_.host, config_.port,
-            [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+            [this, token = reconnect_.token(), gen = generation_](
                 boost::system::error_code ec, tcp::resolver::results_type results) {
                 if (token.expired() || gen != generation_) return;
                 if (ec) {
@@ -142,7 +140,7 @@ private:
 
     void read() {
         socket_->async_read_some(boost::asio::buffer(buffer_),
-                                 [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                                 [this, token = reconnect_.token(), gen = generation_](
                                      boost::system::error_code ec, std::size_t n) {
                                      if (token.expired() || gen != generation_ || !socket_) return;
                                      if (ec) {
@@ -158,7 +156,7 @@ private:
 
     void on_bytes(std::size_t n) {
         const int64_t t_receive = monotonic_ns();
-        const auto token = std::weak_ptr<int>(alive_);
+        const auto token = reconnect_.token();
         const auto before = stream_.stats();
         stream_.feed(std::string_view(buffer_.data(), n), [&](const Element& e) {
             if (!token.expired()) on_element(e, t_receive);
@@ -238,12 +236,7 @@ private:
         }
         connect_failures_.warn(why + "; retrying");
         drop_socket();
-        retry_timer_->expires_after(backoff_);
-        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(config_.reconnect_max_ms));
-        retry_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
-            if (ec || token.expired()) return;
-            connect();
-        });
+        reconnect_.retry_later();
     }
 
     void drop_socket() {
@@ -256,7 +249,7 @@ private:
         }
         stream_.reset();
         std::lock_guard lock(mutex_);
-        if (stats_.connected) backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+        if (stats_.connected) reconnect_.reset_delay();  // it was up: start again at the minimum
         stats_.connected = false;
     }
 
@@ -266,11 +259,10 @@ private:
     uint32_t device_id_;
     boost::asio::io_context* io_ = nullptr;
     SampleSink sink_;
-    std::shared_ptr<int> alive_;
+    Reconnector reconnect_;  // retry timer, backoff, the token every handler holds
     std::optional<tcp::resolver> resolver_;
     std::optional<tcp::socket> socket_;
-    std::optional<boost::asio::steady_timer> retry_timer_, connect_timer_;
-    std::chrono::milliseconds backoff_{100};
+    std::optional<boost::asio::steady_timer> connect_timer_;
     std::array<char, 8192> buffer_{};
     ElementStream stream_;
     uint64_t generation_ = 0;

@@ -2,12 +2,12 @@
 // with exponential backoff when the port goes away (unplugged, pty closed).
 #include "serial/serial_driver.hpp"
 
+#include "fovea/drivers/reconnector.hpp"
 #include "fovea/drivers/support.hpp"
 
 #include <sys/ioctl.h>
 #include <time.h>
 
-#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -42,26 +42,24 @@ Result<void> read_key(const toml::table& t, const char* key, T& out) {
 class SerialDriver final : public Driver {
 public:
     SerialDriver(const SerialConfig& config, uint32_t device_id)
-        : config_(config), device_id_(device_id) {}
+        : config_(config),
+          device_id_(device_id),
+          reconnect_(std::chrono::milliseconds(config.reconnect_min_ms),
+                     std::chrono::milliseconds(config.reconnect_max_ms)) {}
     ~SerialDriver() override { close(); }
 
     Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
         io_ = &io;
         sink_ = std::move(sink);
-        alive_ = std::make_shared<int>(0);
-        retry_timer_.emplace(io);
         hello_timer_.emplace(io);
-        backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
-        connect();
+        reconnect_.start(io, [this] { connect(); });  // connects now, retries on failure
         return {};
     }
 
     void close() override {
-        alive_.reset();
-        if (retry_timer_) retry_timer_->cancel();
+        reconnect_.stop();
         if (hello_timer_) hello_timer_->cancel();
         drop_port();
-        retry_timer_.reset();
         hello_timer_.reset();
     }
 
@@ -107,7 +105,7 @@ private:
             drop_port();
             set_error(config_.port + ": " + ec.message());
             open_failures_.warn("cannot open " + config_.port + ": " + ec.message() + "; retrying");
-            schedule_retry();
+            reconnect_.retry_later();
             return;
         }
         ++generation_;
@@ -135,7 +133,7 @@ private:
         }
         send(std::move(bytes));
         hello_timer_->expires_after(kHelloRetry);
-        hello_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
+        hello_timer_->async_wait([this, token = reconnect_.token()](auto ec) {
             if (ec || token.expired() || !port_) return;
             bool have;
             {
@@ -154,7 +152,7 @@ private:
 
     void read() {
         port_->async_read_some(boost::asio::buffer(buffer_),
-                               [this, token = std::weak_ptr<int>(alive_), gen = generation_](
+                               [this, token = reconnect_.token(), gen = generation_](
                                    boost::system::error_code ec, std::size_t n) {
                                    // A read of an earlier connection completing late: ignore.
                                    if (token.expired() || !port_ || gen != generation_) return;
@@ -173,7 +171,7 @@ private:
             std::lock_guard lock(mutex_);
             stats_.bytes += n;
         }
-        const auto token = std::weak_ptr<int>(alive_);
+        const auto token = reconnect_.token();
         decoder_.feed(
             std::span<const uint8_t>(buffer_.data(), n),
             [&](const Frame& f) {
@@ -212,7 +210,7 @@ private:
                     }
                     hello_ = std::move(*h);
                     stats_.last_error.clear();
-                    backoff_ = std::chrono::milliseconds(config_.reconnect_min_ms);
+                    reconnect_.reset_delay();  // the device answers: the link works
                 } else {
                     ++stats_.frames_dropped;
                 }
@@ -245,7 +243,7 @@ private:
         logger()->warn("{}: lost ({}); reconnecting", config_.port, why);
         set_error(config_.port + ": " + why);
         drop_port();
-        schedule_retry();
+        reconnect_.retry_later();
     }
 
     void drop_port() {
@@ -260,15 +258,6 @@ private:
         stats_.connected = false;
     }
 
-    void schedule_retry() {
-        retry_timer_->expires_after(backoff_);
-        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(config_.reconnect_max_ms));
-        retry_timer_->async_wait([this, token = std::weak_ptr<int>(alive_)](auto ec) {
-            if (ec || token.expired()) return;
-            connect();
-        });
-    }
-
     void set_error(std::string e) {
         std::lock_guard lock(mutex_);
         stats_.last_error = std::move(e);
@@ -278,10 +267,9 @@ private:
     uint32_t device_id_;
     boost::asio::io_context* io_ = nullptr;
     SampleSink sink_;
-    std::shared_ptr<int> alive_;
+    Reconnector reconnect_;  // retry timer, backoff, the token every handler holds
     std::optional<boost::asio::serial_port> port_;
-    std::optional<boost::asio::steady_timer> retry_timer_, hello_timer_;
-    std::chrono::milliseconds backoff_{50};
+    std::optional<boost::asio::steady_timer> hello_timer_;
     std::array<uint8_t, 4096> buffer_{};
     FrameDecoder decoder_;
     SequenceTracker sequence_;
