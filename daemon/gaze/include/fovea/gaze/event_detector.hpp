@@ -52,8 +52,8 @@ struct DetectorParams {
     double onset_sd = 3.0;
     // Floor of the peak threshold for very quiet trackers (fitted: eval/cv.hpp); the onset
     // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6). Offline,
-    // the relative speed below makes a floor under 30 cost nothing (microsaccades would gain);
-    // online it lets the learning statistic pass pursuit (daemon/eval/README.md).
+    // with the relative speed below, a floor under 30 costs nothing (microsaccades would gain);
+    // online it costs the simulated tracker's saccades .11 kappa (daemon/eval/README.md).
     double min_peak_dps = 30.0;
     int onset_extra_samples = 0;        // walk back past the threshold to the minimum
     double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
