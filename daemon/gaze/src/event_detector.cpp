@@ -318,20 +318,32 @@ void EventDetector::set_saccade_direction(const Entry& e) {
     }
 }
 
-double EventDetector::local_noise_before(int64_t onset) const {
+EventDetector::LocalMotion EventDetector::motion_before(int64_t onset, double window_s) const {
+    // The intersaccadic samples in the window before `onset`, up to the first that is not.
+    LocalMotion lm;
     double s = 0, ss = 0;
-    int m = 0;
     const double t0 = at(onset).t;
-    for (int64_t i = onset - 1; i >= base_ && t0 - at(i).t <= p_.local_noise_window_s; --i) {
+    for (int64_t i = onset - 1; i >= base_ && t0 - at(i).t <= window_s; --i) {
         const Entry& q = at(i);
         if (!is_inter(q.label) || !std::isfinite(q.v)) break;
         s += q.v;
         ss += q.v * q.v;
-        ++m;
+        lm.vx += q.vx;
+        lm.vy += q.vy;
+        ++lm.samples;
     }
-    if (m < 3) return 0.0;
-    const double mean = s / m;
-    return mean + p_.local_noise_sd * std::sqrt(std::max(0.0, ss / m - mean * mean));
+    if (lm.samples == 0) return lm;
+    const double m = lm.samples;
+    lm.speed = s / m;
+    lm.speed_sd = std::sqrt(std::max(0.0, ss / m - lm.speed * lm.speed));
+    lm.vx /= m;
+    lm.vy /= m;
+    return lm;
+}
+
+double EventDetector::local_noise_before(int64_t onset) const {
+    const LocalMotion lm = motion_before(onset, p_.local_noise_window_s);
+    return lm.samples < 3 ? 0.0 : lm.speed + p_.local_noise_sd * lm.speed_sd;
 }
 
 void EventDetector::finish_record(int64_t id, int64_t last) {
@@ -507,18 +519,9 @@ double EventDetector::relative_speed(int64_t c) const {
            at(j - 1).v > onset_ && e.t - at(j - 1).t <= p_.min_saccade_s) {
         --j;
     }
-    double sx = 0, sy = 0;
-    int m = 0;
-    const double t0 = at(j).t;
-    for (int64_t i = j - 1; i >= lo && t0 - at(i).t <= p_.relative_window_s; --i) {
-        const Entry& q = at(i);
-        if (!is_inter(q.label) || !std::isfinite(q.v)) break;
-        sx += q.vx;
-        sy += q.vy;
-        ++m;
-    }
-    if (m < 3) return e.v;
-    return std::hypot(e.vx - sx / m, e.vy - sy / m);
+    const LocalMotion lm = motion_before(j, p_.relative_window_s);
+    if (lm.samples < 3) return e.v;
+    return std::hypot(e.vx - lm.vx, e.vy - lm.vy);
 }
 
 double EventDetector::window_speed(int64_t lo, int64_t hi) const {

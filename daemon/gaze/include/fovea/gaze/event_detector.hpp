@@ -201,6 +201,12 @@ private:
     void end_saccade(int64_t last);
     void set_saccade_direction(const Entry& e);
     void finish_record(int64_t id, int64_t last);
+    struct LocalMotion {
+        int samples = 0;
+        double speed = 0.0, speed_sd = 0.0;  // deg/s
+        double vx = 0.0, vy = 0.0;           // mean velocity vector
+    };
+    LocalMotion motion_before(int64_t onset, double window_s) const;
     double local_noise_before(int64_t onset) const;
     double relative_speed(int64_t c) const;
     void mark_blink_back(int64_t c);
