@@ -48,6 +48,12 @@ void notify(const char* state) {
 #endif
 }
 
+// The ring header's rate: whole hertz, 0 while unknown.
+uint32_t ring_rate_hz(const drivers::DriverInfo& info) {
+    const double hz = info.nominal_rate_hz;
+    return std::isfinite(hz) && hz > 0 && hz < 4e9 ? static_cast<uint32_t>(std::lround(hz)) : 0;
+}
+
 std::shared_ptr<spdlog::logger> log() {
     auto l = spdlog::get("daemon");
     return l ? l : spdlog::default_logger();
@@ -147,7 +153,7 @@ Result<void> Daemon::start() {
         d->pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(d->info, false));
         devices_.push_back(std::move(d));
     }
-    ro.nominal_rate_hz = static_cast<uint32_t>(devices_.front()->info.nominal_rate_hz);
+    ro.nominal_rate_hz = ring_rate_hz(devices_.front()->info);
     ro.device_name = devices_.front()->info.name;
     ro.eyes = config_.eyes;
     auto ring = ring::RingWriter::create(ro);
@@ -259,6 +265,11 @@ void Daemon::adopt_description(Device& d) {
         }
         d.pipeline = std::make_unique<gaze::Pipeline>(pipeline_config(now, readers_attached_));
         if (d.calibration) d.pipeline->set_calibration(*d.calibration);
+    }
+    // The rings describe the first device: its readers learn a rate measured after the start.
+    if (&d == devices_.front().get() && ring_rate_hz(now) != ring_rate_hz(d.info)) {
+        gaze_ring_.set_nominal_rate_hz(ring_rate_hz(now));
+        head_ring_.set_nominal_rate_hz(ring_rate_hz(now));
     }
     d.info = now;
 }

@@ -357,6 +357,8 @@ TEST_F(DaemonTest, GazepointTrackerOverTcpPublishesGaze) {
     EXPECT_NEAR(dev["nominal_rate_hz"].get<double>(), 150.0, 1.0);
     EXPECT_NEAR(dev["lookahead_ms"].get<double>(), 350.0, 15.0);
     EXPECT_NEAR(dev["lookahead_samples"].get<double>(), 52.0, 2.0);
+    // ...and the ring's readers are told the measured rate (the header said 0 at creation).
+    EXPECT_NEAR(fovea::Client(instance).info().nominal_rate_hz, 150.0, 1.0);
 }
 
 }  // namespace

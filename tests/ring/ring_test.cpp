@@ -286,6 +286,22 @@ TEST(SeqlockRing, EyeGeometryTravelsInTheHeader) {
     EXPECT_EQ(fovea_client_eye_geometry(nullptr, nullptr), FOVEA_E_INVALID_ARGUMENT);
 }
 
+// Trackers that never state their rate (Gazepoint, Pupil, OSC) have it measured after their
+// first samples: an attached reader must see the measured rate, not the 0 of the ring's creation.
+TEST(SeqlockRing, AMeasuredRateReachesAttachedReaders) {
+    const auto inst = unique_instance("rate");
+    WriterOptions o;
+    o.instance = inst;
+    o.slot_count = 64;  // and no rate: the tracker has not said it
+    auto w = RingWriter::create(o);
+    ASSERT_TRUE(w.ok()) << w.error().message;
+    fovea::Client c(inst);
+    EXPECT_EQ(c.info().nominal_rate_hz, 0u);
+    w->set_nominal_rate_hz(150);
+    EXPECT_EQ(c.info().nominal_rate_hz, 150u);
+    EXPECT_EQ(fovea::Client(inst).info().nominal_rate_hz, 150u);  // and later ones
+}
+
 TEST(SeqlockRing, ReadersAttachedIsSeenByTheWriter) {
     const auto inst = unique_instance("attached");
     RingWriter w = make_writer(inst, 64);

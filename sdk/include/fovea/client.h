@@ -56,7 +56,7 @@ typedef struct fovea_ring_info {
     uint64_t generation;
     uint32_t slot_count;
     uint32_t stream_kind;
-    uint32_t nominal_rate_hz;
+    uint32_t nominal_rate_hz; /* 0 until known: a rate the daemon measures appears later */
     uint32_t writer_pid;
     char stream_name[32];
     char device_name[64];

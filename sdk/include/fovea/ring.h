@@ -135,7 +135,8 @@ typedef struct fovea_ring_header {
     uint64_t generation;  /* random, new every time a writer creates the ring */
     int64_t created_ns;   /* CLOCK_MONOTONIC at creation */
     uint32_t writer_pid;
-    uint32_t nominal_rate_hz; /* the device's configured sampling rate, 0 if unknown */
+    uint32_t nominal_rate_hz; /* the device's sampling rate, 0 until known; the writer updates
+                                 it (atomically) when it measures a tracker's rate */
     char stream_name[32];     /* NUL-terminated, e.g. "gaze" */
     char device_name[64];     /* NUL-terminated, e.g. "sim" */
     fovea_eye_geometry eyes;  /* set once at creation; ipd_m == 0 when absent */

@@ -327,7 +327,7 @@ int fovea_client_info(const fovea_client* c, fovea_ring_info* out) {
     out->generation = h->generation;
     out->slot_count = h->slot_count;
     out->stream_kind = h->stream_kind;
-    out->nominal_rate_hz = h->nominal_rate_hz;
+    out->nominal_rate_hz = __atomic_load_n(&h->nominal_rate_hz, __ATOMIC_RELAXED);
     out->writer_pid = h->writer_pid;
     std::memcpy(out->stream_name, h->stream_name, sizeof out->stream_name);
     std::memcpy(out->device_name, h->device_name, sizeof out->device_name);

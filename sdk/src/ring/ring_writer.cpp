@@ -123,6 +123,10 @@ void RingWriter::close() {
     if (fd_ >= 0) ::close(std::exchange(fd_, -1));
 }
 
+void RingWriter::set_nominal_rate_hz(uint32_t hz) {
+    if (view_.header) __atomic_store_n(&view_.header->nominal_rate_hz, hz, __ATOMIC_RELAXED);
+}
+
 uint64_t RingWriter::publish_words(void* record, uint64_t* index_field, int64_t* publish_field,
                                    uint64_t* checksum_field) {
     fovea_ring_header* h = view_.header;

@@ -41,6 +41,10 @@ public:
     uint64_t publish(fovea_gaze_record& record);
     uint64_t publish(fovea_head_record& record);
 
+    // Change the rate readers see in fovea_client_info: a tracker whose rate is measured from
+    // its first samples. Service thread; readers may be attached.
+    void set_nominal_rate_hz(uint32_t hz);
+
     // True if any client has the ring open (clients hold a shared flock on it).
     bool readers_attached() const;
 
