@@ -219,14 +219,16 @@ Result<ZmqGaze> decode_pupil_gaze(const std::string& topic, const std::string& p
 // --- subscriber -----------------------------------------------------------------------------
 
 Result<std::unique_ptr<ZmqGazeSubscriber>> ZmqGazeSubscriber::connect(const std::string& endpoint,
-                                                                      const std::string& prefix) {
+                                                                      const std::string& prefix,
+                                                                      int receive_hwm) {
     std::unique_ptr<ZmqGazeSubscriber> s(new ZmqGazeSubscriber());
+    s->counts_gaps_ = std::string_view("gaze.").starts_with(prefix);
     s->context_ = zmq_ctx_new();
     if (!s->context_) return make_error(zmq_error("zmq: cannot create a context"));
     s->socket_ = zmq_socket(s->context_, ZMQ_SUB);
     if (!s->socket_) return make_error(zmq_error("zmq: cannot create a SUB socket"));
-    const int hwm = 1'000'000, linger = 0;
-    if (zmq_setsockopt(s->socket_, ZMQ_RCVHWM, &hwm, sizeof hwm) != 0 ||
+    const int linger = 0;
+    if (zmq_setsockopt(s->socket_, ZMQ_RCVHWM, &receive_hwm, sizeof receive_hwm) != 0 ||
         zmq_setsockopt(s->socket_, ZMQ_LINGER, &linger, sizeof linger) != 0 ||
         zmq_setsockopt(s->socket_, ZMQ_SUBSCRIBE, prefix.data(), prefix.size()) != 0)
         return make_error(zmq_error("zmq: setsockopt"));
@@ -238,6 +240,12 @@ Result<std::unique_ptr<ZmqGazeSubscriber>> ZmqGazeSubscriber::connect(const std:
 ZmqGazeSubscriber::~ZmqGazeSubscriber() {
     if (socket_) zmq_close(socket_);
     if (context_) zmq_ctx_term(context_);
+}
+
+void ZmqGazeSubscriber::count_gap(uint64_t index) {
+    if (counts_gaps_ && have_index_ && index > last_index_) missed_ += index - last_index_ - 1;
+    have_index_ = true;
+    last_index_ = index;
 }
 
 Result<std::optional<ZmqGaze>> ZmqGazeSubscriber::receive(int timeout_ms) {
@@ -267,7 +275,10 @@ Result<std::optional<ZmqGaze>> ZmqGazeSubscriber::receive(int timeout_ms) {
         }
         if (count >= 2) {
             auto g = decode_pupil_gaze(frames[0], frames[1]);
-            if (g) return std::optional<ZmqGaze>(std::move(g).value());
+            if (g) {
+                if (g->fovea_fields) count_gap(g->record.index);
+                return std::optional<ZmqGaze>(std::move(g).value());
+            }
         }
         ++malformed_;
         if (Clock::now() >= end) return std::optional<ZmqGaze>{};

@@ -45,9 +45,11 @@ Result<ZmqGaze> decode_pupil_gaze(const std::string& topic, const std::string& p
 // The subscriber side (`fovea watch --zmq`, tests). One thread.
 class ZmqGazeSubscriber {
 public:
-    // Connect a SUB socket to `endpoint`, subscribed to topics starting with `prefix`.
+    // Connect a SUB socket to `endpoint`, subscribed to topics starting with `prefix`, queueing
+    // at most `receive_hwm` messages that were received but not yet read.
     static Result<std::unique_ptr<ZmqGazeSubscriber>> connect(const std::string& endpoint,
-                                                              const std::string& prefix = "gaze.");
+                                                              const std::string& prefix = "gaze.",
+                                                              int receive_hwm = 1'000'000);
     ~ZmqGazeSubscriber();
     ZmqGazeSubscriber(const ZmqGazeSubscriber&) = delete;
     ZmqGazeSubscriber& operator=(const ZmqGazeSubscriber&) = delete;
@@ -56,12 +58,23 @@ public:
     // are skipped and counted.
     Result<std::optional<ZmqGaze>> receive(int timeout_ms);
     uint64_t malformed() const { return malformed_; }
+    // Samples a Fovea publisher sent after the first message received here that never arrived:
+    // gaps in its ring index. A PUB socket drops at a slow subscriber's high-water mark without
+    // telling the sender, so only the receiving side can count them. 0 under a prefix narrower
+    // than "gaze." (the other topics' samples are not missing). A publisher that restarts
+    // (its index goes back) starts a new count base.
+    uint64_t missed() const { return missed_; }
 
 private:
     ZmqGazeSubscriber() = default;
+    void count_gap(uint64_t index);
     void* context_ = nullptr;
     void* socket_ = nullptr;
     uint64_t malformed_ = 0;
+    bool counts_gaps_ = true;
+    bool have_index_ = false;
+    uint64_t last_index_ = 0;
+    uint64_t missed_ = 0;
 };
 
 }  // namespace fovea::daemon

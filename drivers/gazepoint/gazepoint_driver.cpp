@@ -27,7 +27,6 @@ namespace fovea::drivers::gazepoint {
 namespace {
 
 using boost::asio::ip::tcp;
-using Clock = std::chrono::steady_clock;
 constexpr auto kConnectTimeout = std::chrono::seconds(2);
 
 std::shared_ptr<spdlog::logger> logger() {

@@ -26,7 +26,6 @@
 namespace fovea::drivers::serial {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr auto kHelloRetry = std::chrono::milliseconds(250);
 
 std::shared_ptr<spdlog::logger> logger() {

@@ -258,6 +258,38 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
     EXPECT_EQ(d->wait(5s), 0) << d->err();
 }
 
+// A PUB socket drops what a lagging subscriber's queues cannot hold and never tells the sender:
+// the subscriber counts every sample that did not arrive from the gaps in the ring index, and
+// what arrived plus what it counted is every sample published meanwhile.
+TEST_F(ZmqFanOut, ALaggingSubscriberCountsEverySampleItMissed) {
+    // A Unix socket buffers a few hundred messages, loopback TCP tens of thousands.
+    const auto cfg =
+        write_file("hwm.toml", "[zmq]\npublish = \"ipc://" + dir + "/gaze.zmq\"\nsend_hwm = 10\n");
+    auto d = start_daemon({"--config", cfg});
+    auto st = query("status");
+    ASSERT_TRUE(st.ok() && st->contains("zmq")) << d->err();
+    auto sub = daemon::ZmqGazeSubscriber::connect((*st)["zmq"]["endpoint"].get<std::string>(),
+                                                  "gaze.", 10);
+    ASSERT_TRUE(sub.ok()) << sub.error().message;
+    auto first = (*sub)->receive(5000);
+    ASSERT_TRUE(first.ok() && first->has_value()) << "no first message";
+
+    std::this_thread::sleep_for(2s);  // 2000 samples of the 1 kHz simulated tracker, unread
+    fovea::Client ring(instance);
+    const uint64_t published = ring.head();  // every one of these reaches the fan-out
+    uint64_t received = 1, last = (*first)->record.index;
+    while (last + 1 < published) {
+        auto g = (*sub)->receive(2000);
+        ASSERT_TRUE(g.ok()) << g.error().message;
+        ASSERT_TRUE(g->has_value()) << "stalled at index " << last;
+        last = (**g).record.index;
+        ++received;
+    }
+    EXPECT_GT((*sub)->missed(), 500u);
+    EXPECT_EQ(received + (*sub)->missed(), last - (*first)->record.index + 1);
+    EXPECT_EQ((*sub)->malformed(), 0u);
+}
+
 // A tracker that goes quiet (its server stopped, a cable pulled) must not keep its last samples
 // in the detector's look-ahead until it comes back: within a second of the silence the fan-out
 // has carried the final version of every sample the ring carried.

@@ -72,6 +72,11 @@ void run_watch_zmq(const WatchOptions& o) {
     if ((*sub)->malformed())
         std::fprintf(stderr, "fovea watch: %llu malformed messages skipped\n",
                      static_cast<unsigned long long>((*sub)->malformed()));
+    if ((*sub)->missed())
+        std::fprintf(stderr,
+                     "fovea watch: %llu samples missed (gaps in the publisher's index: dropped "
+                     "at its send_hwm while this subscriber lagged)\n",
+                     static_cast<unsigned long long>((*sub)->missed()));
 }
 
 void setup_watch(CLI::App& app) {
