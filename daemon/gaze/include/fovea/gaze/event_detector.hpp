@@ -28,9 +28,8 @@
 // Parameter choice: one set for every recording, each value from the physiology or the
 // published method (N&H's 6/3 SD, 40 ms PSO window and local-noise window; saccades 10-150 ms;
 // pursuit > ~2 deg/s) or from the tracker's sampling (derivative windows in ms, converted per
-// rate); none is fitted per file. On lund2013 the online look-ahead that keeps every event
-// within 0.05 kappa of offline is 350 ms (the fixation/pursuit split needs it; saccades and
-// PSO are the same at any look-ahead).
+// rate); none is fitted per file. The online look-ahead is what the fixation/pursuit split
+// needs; saccades and PSO are the same at any look-ahead (daemon/gaze/README.md, Results).
 #pragma once
 
 #include <algorithm>
@@ -51,9 +50,8 @@ struct DetectorParams {
     double peak_sd = 6.0;
     double onset_sd = 3.0;
     // Floor of the peak threshold for very quiet trackers (fitted: eval/cv.hpp); the onset
-    // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6). Offline,
-    // with the relative speed below, a floor under 30 costs nothing (microsaccades would gain);
-    // online it costs the simulated tracker's saccades .11 kappa (daemon/eval/README.md).
+    // floor is min_onset_dps() = the same floor times N&H's onset/peak SD ratio (3/6). Online
+    // thresholds cannot go lower yet: daemon/eval/README.md says why.
     double min_peak_dps = 30.0;
     int onset_extra_samples = 0;        // walk back past the threshold to the minimum
     double offset_peak_fraction = 0.2;  // offset: local minimum below this x peak
@@ -71,9 +69,8 @@ struct DetectorParams {
     // its rise (N&H's local window): pursuit carries the eye, and its speed alone is no saccade;
     // at fixation the mean is ~0. 0: absolute speed.
     double relative_window_s = 0.040;
-    // Shortest saccade. Engbert & Kliegl's (2003) 6 ms keeps microsaccades offline, but online
-    // (what fovead runs) anything under 10 ms costs Lund's moving-dot fixations .03 kappa
-    // against offline (daemon/eval/README.md).
+    // Shortest saccade: longer than Engbert & Kliegl's (2003) 6 ms microsaccades, because
+    // online (what fovead runs) shorter ones cost fixations against offline (daemon/eval).
     double min_saccade_s = 0.010;
     double max_saccade_s = 0.150;
     double pso_window_s = 0.040;
@@ -84,8 +81,8 @@ struct DetectorParams {
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
     double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
-    // Online: prior for the position noise (the lund2013 recordings span 0.017-0.078, median
-    // ~0.03 deg), worth this many samples, so the first samples cannot set it alone.
+    // Online: prior for the position noise (a typical video tracker's; daemon/gaze/README.md),
+    // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
     double noise_prior_samples = 200.0;
     double min_pursuit_window_s = 0.03;  // shorter windows keep the previous decision
@@ -94,10 +91,9 @@ struct DetectorParams {
     double blink_pre_s = 0.030;          // lid artefacts before / after the lost samples
     double blink_post_s = 0.060;
     // Online: bounded delay before a sample's label is final. Telling fixation from pursuit
-    // needs most of the +-400 ms speed window: on lund2013, 350 ms keeps every event within
-    // .05 kappa of offline, 100 ms loses .15-.17 on fixations (saccades, PSO and blinks do not
-    // depend on it). Renderers are not delayed: the daemon publishes each sample at once with
-    // causal provisional labels (Pipeline::latest()).
+    // needs most of the +-400 ms speed window; the default is the shortest that keeps online
+    // within .05 kappa of offline (daemon/gaze/README.md). Renderers are not delayed: the
+    // daemon publishes each sample at once with causal provisional labels (Pipeline::latest()).
     double lookahead_s = 0.350;
     double threshold_horizon_s = 30.0;  // online: memory of the threshold statistics
 
