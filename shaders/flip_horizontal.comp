@@ -9,7 +9,7 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer Opponent { vec4 opponent[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer Horizontal {
-    vec4 horizontal[];  // 2 per pixel: (y, cx, cz1, cz2), (g, dg, ddg, valid)
+    vec4 horizontal[];  // two planes: (y, cx, cz1, cz2) per pixel, then (g, dg, ddg, valid)
 };
 layout(std430, set = 0, binding = 2) readonly buffer Axes { FlipAxis axes[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Weights { vec4 weights[]; };
@@ -28,17 +28,23 @@ void main() {
     FlipAxis a = axes[block_axis[block_offset + gl_WorkGroupID.x]];
     uint row = p.y * size.x;
     int last = int(size.x) - 1;
-    vec4 colour = vec4(0.0);
-    for (int i = -a.colour_radius; i <= a.colour_radius; ++i) {
-        vec4 o = opponent[row + uint(clamp(int(p.x) + i, 0, last))];
-        colour += weights[a.colour_offset + uint(i + a.colour_radius)] * o.xyzz;
-    }
-    vec3 feature = vec3(0.0);
-    for (int i = -a.feature_radius; i <= a.feature_radius; ++i) {
-        float y = (opponent[row + uint(clamp(int(p.x) + i, 0, last))].x + 16.0) / 116.0;
-        feature += weights[a.feature_offset + uint(i + a.feature_radius)].xyz * y;
+    // The kernels are even (the derivative odd) about the centre (gpu_flip.cpp checks): each
+    // pair of taps is one load of either neighbour and one weight, shared by both loops.
+    int rc = a.colour_radius, rf = a.feature_radius;
+    vec4 centre = opponent[row + p.x];
+    vec4 colour = weights[a.colour_offset + uint(rc)] * centre.xyzz;
+    vec3 feature = weights[a.feature_offset + uint(rf)].xyz * ((centre.x + 16.0) / 116.0);
+    for (int i = 1; i <= max(rc, rf); ++i) {
+        vec4 l = opponent[row + uint(max(int(p.x) - i, 0))];
+        vec4 r = opponent[row + uint(min(int(p.x) + i, last))];
+        if (i <= rc) colour += weights[a.colour_offset + uint(rc + i)] * (l.xyzz + r.xyzz);
+        if (i <= rf) {
+            vec3 w = weights[a.feature_offset + uint(rf + i)].xyz;
+            float yl = (l.x + 16.0) / 116.0, yr = (r.x + 16.0) / 116.0;
+            feature += vec3(w.x * (yl + yr), w.y * (yr - yl), w.z * (yl + yr));
+        }
     }
     uint i = row + p.x;
-    horizontal[2u * i] = colour;
-    horizontal[2u * i + 1u] = vec4(feature, opponent[i].w);
+    horizontal[i] = colour;
+    horizontal[size.x * size.y + i] = vec4(feature, centre.w);
 }

@@ -11,9 +11,11 @@ layout(local_size_x = 16, local_size_y = 16) in;
 #define FLIP_COLOUR_BINDING 6
 #include "flip_colour.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Horizontal { vec4 horizontal[]; };
+layout(std430, set = 0, binding = 0) readonly buffer Horizontal {
+    vec4 horizontal[];  // flip_horizontal.comp's two planes
+};
 layout(std430, set = 0, binding = 1) buffer Reference {
-    vec4 reference[];  // 2 per pixel: (L, a, b, edge), (point, valid, 0, 0)
+    vec4 reference[];  // per reference two planes: (L, a, b, edge), then (point, valid, 0, 0)
 };
 layout(std430, set = 0, binding = 2) writeonly buffer Map { float map[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Axes { FlipAxis axes[]; };
@@ -34,30 +36,42 @@ void main() {
     FlipAxis column = axes[block_axis[block_offset + gl_WorkGroupID.x]];
     FlipAxis a = axes[block_axis[block_offset + blocks_x + gl_WorkGroupID.y]];
     int last = int(size.y) - 1;
-    vec3 c = vec3(0.0);
-    for (int j = -a.colour_radius; j <= a.colour_radius; ++j) {
-        vec4 h = horizontal[2u * (uint(clamp(int(p.y) + j, 0, last)) * size.x + p.x)];
-        vec4 w = weights[a.colour_offset + uint(j + a.colour_radius)];
+    // Even kernels (the derivative odd), paired as in flip_horizontal.comp.
+    int rc = a.colour_radius, rf = a.feature_radius;
+    uint here = p.y * size.x + p.x, plane = size.x * size.y;
+    vec4 h0 = horizontal[here];
+    vec4 w0 = weights[a.colour_offset + uint(rc)];
+    vec3 c = vec3(w0.x * h0.x, w0.y * h0.y, w0.z * h0.z + w0.w * h0.w);
+    for (int j = 1; j <= rc; ++j) {
+        uint up = uint(max(int(p.y) - j, 0)) * size.x + p.x;
+        uint down = uint(min(int(p.y) + j, last)) * size.x + p.x;
+        vec4 h = horizontal[up] + horizontal[down];
+        vec4 w = weights[a.colour_offset + uint(rc + j)];
         c += vec3(w.x * h.x, w.y * h.y, w.z * h.z + w.w * h.w);
     }
     c.z /= column.cz1_sum * a.cz1_sum + column.cz2_sum * a.cz2_sum;
-    vec4 d = vec4(0.0);  // dx, ddx, dy, ddy
-    for (int j = -a.feature_radius; j <= a.feature_radius; ++j) {
-        vec4 h = horizontal[2u * (uint(clamp(int(p.y) + j, 0, last)) * size.x + p.x) + 1u];
-        vec3 w = weights[a.feature_offset + uint(j + a.feature_radius)].xyz;
-        d += vec4(w.x * h.y, w.x * h.z, w.y * h.x, w.z * h.x);
+    vec4 f0 = horizontal[plane + here];
+    vec3 v0 = weights[a.feature_offset + uint(rf)].xyz;
+    vec4 d = vec4(v0.x * f0.y, v0.x * f0.z, v0.y * f0.x, v0.z * f0.x);  // dx, ddx, dy, ddy
+    for (int j = 1; j <= rf; ++j) {
+        uint up = plane + uint(max(int(p.y) - j, 0)) * size.x + p.x;
+        uint down = plane + uint(min(int(p.y) + j, last)) * size.x + p.x;
+        vec4 hu = horizontal[up], hd = horizontal[down];
+        vec4 sum = hu + hd;
+        vec3 w = weights[a.feature_offset + uint(rf + j)].xyz;
+        d += vec4(w.x * sum.y, w.x * sum.z, w.y * (hd.x - hu.x), w.z * sum.x);
     }
     vec3 lab = flip_linear_rgb_to_hunt_lab(clamp(flip_ycxcz_to_linear_rgb(c), 0.0, 1.0));
     float edge = length(d.xz), point = length(d.yw);
-    uint i = p.y * size.x + p.x;
-    uint r = reference_offset + 2u * i;
-    float valid = horizontal[2u * i + 1u].w;
+    uint i = here;
+    uint r = reference_offset + i;
+    float valid = f0.w;
     if (mode == 0u) {
         reference[r] = vec4(lab, edge);
-        reference[r + 1u] = vec4(point, valid, 0.0, 0.0);
+        reference[r + plane] = vec4(point, valid, 0.0, 0.0);
         return;
     }
-    vec4 r0 = reference[r], r1 = reference[r + 1u];
+    vec4 r0 = reference[r], r1 = reference[r + plane];
     if (r1.y == 0.0) {
         map[i] = uintBitsToFloat(0x7fc00000u);  // NaN: not pooled
         return;

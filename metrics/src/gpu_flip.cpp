@@ -59,6 +59,18 @@ struct AxisTables {
     std::vector<double> values;          // ppd of each entry of axes
 };
 
+// The shaders add each pair of taps i and -i under one weight: every kernel must be even about
+// its centre, the first derivative odd.
+bool symmetric(const detail::AxisFilters& f) {
+    const auto even = [](const std::vector<double>& k, double sign) {
+        for (size_t i = 0; i < k.size(); ++i)
+            if (float(k[i]) != float(sign * k[k.size() - 1 - i])) return false;
+        return true;
+    };
+    return even(f.y, 1) && even(f.cx, 1) && even(f.cz1, 1) && even(f.cz2, 1) && even(f.g, 1) &&
+           even(f.dg, -1) && even(f.ddg, 1);
+}
+
 Result<bool> add_field(AxisTables& t, const PpdField& ppd, uint32_t w, uint32_t h) {
     std::vector<double>& values = t.values;
     const auto add_axis = [&](const std::vector<double>& field, uint32_t n) -> Result<bool> {
@@ -75,6 +87,9 @@ Result<bool> add_field(AxisTables& t, const PpdField& ppd, uint32_t w, uint32_t 
                 if (std::max(f.colour_radius, f.feature_radius) > GpuFlip::kMaxRadius)
                     return make_error("GPU FLIP: ppd " + std::to_string(p) +
                                       " needs kernels wider than the GPU version's");
+                if (!symmetric(f))
+                    return make_error("GPU FLIP: the kernels for ppd " + std::to_string(p) +
+                                      " are not even about their centre (the shaders pair taps)");
                 AxisGpu a{};
                 a.colour_radius = f.colour_radius;
                 a.feature_radius = f.feature_radius;
