@@ -20,6 +20,7 @@ struct Field {
 constexpr Field kFields[] = {
     {"velocity_half_window_s", &DetectorParams::velocity_half_window_s},
     {"initial_peak_dps", &DetectorParams::initial_peak_dps},
+    {"stats_bound_dps", &DetectorParams::stats_bound_dps},
     {"peak_sd", &DetectorParams::peak_sd},
     {"onset_sd", &DetectorParams::onset_sd},
     {"min_peak_dps", &DetectorParams::min_peak_dps},

@@ -232,7 +232,8 @@ EventDetector::Record* EventDetector::record(int64_t id) {
 void EventDetector::feed_stats(int64_t i) {
     if (i <= base_ || i >= n_) return;
     const Entry& e = at(i);
-    if (!is_inter(e.label) || !std::isfinite(e.v) || !(e.v < peak_)) return;
+    const double bound = p_.stats_bound_dps > 0 ? p_.stats_bound_dps : peak_;
+    if (!is_inter(e.label) || !std::isfinite(e.v) || !(e.v < bound)) return;
     update_stats(e.v, std::min(e.t - at(i - 1).t, 0.1));
 }
 
@@ -600,27 +601,39 @@ std::vector<double> EventDetector::velocities(std::span<const DetectorInput> sam
 
 namespace {
 
-// N&H's fixed point: peak = mean + 6 SD of the velocities below peak.
-VelocityThresholds nh_iterate(const std::vector<double>& v, const DetectorParams& params) {
+// Mean and SD of the velocities below `bound`; false for fewer than two.
+bool moments_below(const std::vector<double>& v, double bound, double& mean, double& sd) {
+    double s = 0, ss = 0;
+    size_t m = 0;
+    for (double x : v) {
+        if (std::isfinite(x) && x < bound) {
+            s += x;
+            ss += x * x;
+            ++m;
+        }
+    }
+    if (m < 2) return false;
+    mean = s / static_cast<double>(m);
+    sd = std::sqrt(std::max(0.0, ss / static_cast<double>(m) - mean * mean));
+    return true;
+}
+
+// N&H's fixed point: peak = mean + 6 SD of the velocities below peak. With a bound
+// (stats_bound_dps), one pass below it instead.
+VelocityThresholds nh_iterate(const std::vector<double>& v, const DetectorParams& params,
+                              double bound = 0.0) {
     double peak = params.initial_peak_dps;
     double mean = 0, sd = 0;
-    for (int iter = 0; iter < 100; ++iter) {
-        double s = 0, ss = 0;
-        size_t m = 0;
-        for (double x : v) {
-            if (std::isfinite(x) && x < peak) {
-                s += x;
-                ss += x * x;
-                ++m;
-            }
+    if (bound > 0) {
+        if (moments_below(v, bound, mean, sd)) peak = mean + params.peak_sd * sd;
+    } else {
+        for (int iter = 0; iter < 100; ++iter) {
+            if (!moments_below(v, peak, mean, sd)) break;
+            const double next = mean + params.peak_sd * sd;
+            const bool done = std::fabs(next - peak) < 0.1;
+            peak = next;
+            if (done) break;
         }
-        if (m < 2) break;
-        mean = s / static_cast<double>(m);
-        sd = std::sqrt(std::max(0.0, ss / static_cast<double>(m) - mean * mean));
-        const double next = mean + params.peak_sd * sd;
-        const bool done = std::fabs(next - peak) < 0.1;
-        peak = next;
-        if (done) break;
     }
     VelocityThresholds t;
     t.peak_dps = std::max(params.min_peak_dps, peak);
@@ -656,7 +669,7 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         }
         d.flush();
         while (d.pop(out)) {}
-        VelocityThresholds next = nh_iterate(v, params);
+        VelocityThresholds next = nh_iterate(v, params, params.stats_bound_dps);
         double sum = 0;
         size_t m = 0;
         for (double x : noise) {

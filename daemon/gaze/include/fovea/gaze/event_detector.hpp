@@ -47,6 +47,12 @@ namespace fovea::gaze {
 struct DetectorParams {
     double velocity_half_window_s = 0.004;  // SG derivative over +-6 ms
     double initial_peak_dps = 100.0;        // N&H starting peak threshold
+    // The thresholds come from the mean and SD of the velocities the detector leaves as
+    // fixation/pursuit, taken below this fixed bound (N&H's starting peak), not iterated down to
+    // their own peak: that fixed point depends on where it starts and, on noisy recordings,
+    // sinks into the noise and splits fixations (daemon/eval/README.md). What the detector left
+    // intersaccadic holds no saccades already. 0: N&H's iteration.
+    double stats_bound_dps = 100.0;
     double peak_sd = 6.0;
     double onset_sd = 3.0;
     // Floor of the peak threshold for very quiet trackers (fitted: eval/cv.hpp); the onset
