@@ -243,9 +243,25 @@ ZmqGazeSubscriber::~ZmqGazeSubscriber() {
 }
 
 void ZmqGazeSubscriber::count_gap(uint64_t index) {
-    if (counts_gaps_ && have_index_ && index > last_index_) missed_ += index - last_index_ - 1;
-    have_index_ = true;
-    last_index_ = index;
+    if (!counts_gaps_) return;
+    if (have_index_ && index + kReorderSpan < newest_index_) {  // a restarted publisher
+        missed_before_ = missed();
+        have_index_ = false;
+    }
+    if (!have_index_) {
+        have_index_ = true;
+        first_index_ = newest_index_ = index;
+        received_ = 1;
+        return;
+    }
+    if (index < first_index_) return;  // sent before the first one seen here
+    newest_index_ = std::max(newest_index_, index);
+    ++received_;
+}
+
+uint64_t ZmqGazeSubscriber::missed() const {
+    const uint64_t span = have_index_ ? newest_index_ - first_index_ + 1 : 0;
+    return missed_before_ + (span > received_ ? span - received_ : 0);
 }
 
 Result<std::optional<ZmqGaze>> ZmqGazeSubscriber::receive(int timeout_ms) {

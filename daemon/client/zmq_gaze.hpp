@@ -58,12 +58,16 @@ public:
     // are skipped and counted.
     Result<std::optional<ZmqGaze>> receive(int timeout_ms);
     uint64_t malformed() const { return malformed_; }
-    // Samples a Fovea publisher sent after the first message received here that never arrived:
-    // gaps in its ring index. A PUB socket drops at a slow subscriber's high-water mark without
-    // telling the sender, so only the receiving side can count them. 0 under a prefix narrower
-    // than "gaze." (the other topics' samples are not missing). A publisher that restarts
-    // (its index goes back) starts a new count base.
-    uint64_t missed() const { return missed_; }
+    // Samples a Fovea publisher sent after the first message received here that have not
+    // arrived: ring indices between the first and the newest received that were never seen. A
+    // PUB socket drops at a slow subscriber's high-water mark without telling the sender, so
+    // only the receiving side can count them. Several devices' samples may arrive out of index
+    // order (each device's look-ahead is its own), so a sample still in flight counts until it
+    // arrives. 0 under a prefix narrower than "gaze." (the other topics' samples are not
+    // missing). An index that falls back by more than kReorderSpan is a restarted publisher:
+    // what was missed before is kept and counting starts again.
+    uint64_t missed() const;
+    static constexpr uint64_t kReorderSpan = 1 << 16;
 
 private:
     ZmqGazeSubscriber() = default;
@@ -73,8 +77,8 @@ private:
     uint64_t malformed_ = 0;
     bool counts_gaps_ = true;
     bool have_index_ = false;
-    uint64_t last_index_ = 0;
-    uint64_t missed_ = 0;
+    uint64_t first_index_ = 0, newest_index_ = 0, received_ = 0;  // since the last restart
+    uint64_t missed_before_ = 0;                                  // before it
 };
 
 }  // namespace fovea::daemon

@@ -258,6 +258,53 @@ TEST_F(ZmqFanOut, RoundTripCarriesEverySampleTheRingCarried) {
     EXPECT_EQ(d->wait(5s), 0) << d->err();
 }
 
+// Samples of several devices reach the fan-out out of index order (each device's look-ahead
+// is its own): a late sample is not missed, a gap is, and a publisher whose index starts again
+// starts a new count.
+TEST_F(ServiceTest, ZmqSubscriberCountsGapsNotReorderedSamples) {
+    void* ctx = zmq_ctx_new();
+    void* pub = zmq_socket(ctx, ZMQ_PUB);
+    const std::string endpoint = "ipc://" + dir + "/reorder.zmq";
+    ASSERT_EQ(zmq_bind(pub, endpoint.c_str()), 0);
+    auto sub = daemon::ZmqGazeSubscriber::connect(endpoint);
+    ASSERT_TRUE(sub.ok()) << sub.error().message;
+    uint64_t sent = 100000;  // more than kReorderSpan: a fall back to 0 is a restart
+    auto send = [&](uint64_t index) {
+        fovea_gaze_record r{};
+        r.index = index;
+        r.t_capture_ns = 1;
+        const auto m = daemon::encode_pupil_gaze(r);
+        zmq_send(pub, m.topic.data(), m.topic.size(), ZMQ_SNDMORE);
+        zmq_send(pub, m.payload.data(), m.payload.size(), 0);
+    };
+    auto receive = [&](int n) {
+        for (int i = 0; i < n; ++i) {
+            auto g = (*sub)->receive(2000);
+            ASSERT_TRUE(g.ok() && g->has_value()) << "message " << i;
+        }
+    };
+    // Until the subscription has reached the publisher (ZeroMQ's slow joiner).
+    for (bool joined = false; !joined; ++sent) {
+        send(sent);
+        auto g = (*sub)->receive(20);
+        ASSERT_TRUE(g.ok());
+        joined = g->has_value();
+    }
+    EXPECT_EQ((*sub)->missed(), 0u);
+    for (uint64_t i : {sent + 1, sent, sent + 3, sent + 2, sent + 6}) send(i);
+    receive(5);
+    EXPECT_EQ((*sub)->missed(), 2u);  // sent + 4 and sent + 5
+    send(sent + 5);                   // later than its neighbours: the count goes down again
+    receive(1);
+    EXPECT_EQ((*sub)->missed(), 1u);
+    // A restarted publisher: its index starts from 0 again; what was missed before stays.
+    for (uint64_t i : {uint64_t{0}, uint64_t{1}, uint64_t{3}}) send(i);
+    receive(3);
+    EXPECT_EQ((*sub)->missed(), 2u);  // sent + 4, and 2 of the new run
+    zmq_close(pub);
+    zmq_ctx_term(ctx);
+}
+
 // A PUB socket drops what a lagging subscriber's queues cannot hold and never tells the sender:
 // the subscriber counts every sample that did not arrive from the gaps in the ring index, and
 // what arrived plus what it counted is every sample published meanwhile.
