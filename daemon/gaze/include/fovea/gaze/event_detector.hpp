@@ -3,15 +3,15 @@
 // thresholds' history:
 //   1. velocity: least-squares slope over a short centred window (a Savitzky-Golay derivative);
 //   2. saccades: Nyström & Holmqvist (2010) adaptive peak/onset thresholds (mean + 6/3 SD of the
-//      sub-threshold velocities), onset/offset at the local velocity minimum, PSO = renewed
-//      velocity above the onset threshold within 40 ms of the offset. Offset and PSO are judged
-//      on a sharper derivative (+-2 ms) as well: a PSO wobble lasts 5-20 ms and the +-4 ms
-//      window that keeps the peak test robust fills in the dip between a small saccade and its
-//      PSO. The offset threshold is at least N&H's local noise (mean + 3 SD of the velocity in
-//      the 40 ms before the onset), which matters during pursuit. The saccade also ends where
-//      its velocity reverses sign along its own direction (taken at the peak): an overshoot
-//      turning back is the PSO even when the other component keeps the speed high (hooked ends
-//      in pursuit). A movement inside the PSO window faster than the saccade itself is a new
+//      intersaccadic velocities, below a fixed bound: stats_bound_dps), onset/offset at the local
+//      velocity minimum, PSO = renewed velocity above the onset threshold within 40 ms of the
+//      offset. Offset and PSO are judged on a sharper derivative (+-2 ms) as well: a PSO wobble
+//      lasts 5-20 ms and the +-4 ms window that keeps the peak test robust fills in the dip between
+//      a small saccade and its PSO. The offset threshold is at least N&H's local noise (mean + 3 SD
+//      of the velocity in the 40 ms before the onset), which matters during pursuit. The saccade
+//      also ends where its velocity reverses sign along its own direction (taken at the peak): an
+//      overshoot turning back is the PSO even when the other component keeps the speed high (hooked
+//      ends in pursuit). A movement inside the PSO window faster than the saccade itself is a new
 //      saccade, not its wobble;
 //   3. the rest (intersaccadic samples) is fixation or pursuit by the eye's speed measured over a
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
