@@ -21,6 +21,18 @@ configure() {  # dir, extra cmake args...
         || { cat "$dir.configure.log"; exit 1; }
 }
 configure_build() { configure "$@"; cmake --build "$1" -j "$jobs"; }
+# dir, cmake args...: a second configure with the same arguments must leave every build command
+# as it was, or each later `tools/dev.sh` run would rebuild what those commands make.
+require_same_commands_after_configure() {
+    local dir="$1" before
+    before=$(ninja -C "$dir" -t commands)
+    configure "$@"
+    if [ "$(ninja -C "$dir" -t commands)" != "$before" ]; then
+        echo "a second configure of $dir changed these build commands:" >&2
+        diff <(printf '%s\n' "$before") <(ninja -C "$dir" -t commands) | head -20 >&2
+        exit 1
+    fi
+}
 build_targets() {  # dir, targets...
     local dir="$1"; shift
     cmake --build "$dir" -j "$jobs" --target "$@"
@@ -168,6 +180,8 @@ run_main_suite() {
     tools/check_format.sh
     step "build (RelWithDebInfo, warnings as errors)"
     configure_build build/main "${main_flags[@]}"
+    step "configure again: no build command changes (so a later demo rebuilds nothing)"
+    require_same_commands_after_configure build/main "${main_flags[@]}"
     step "ctest: whole suite but 'slow'"
     require_built build/main . ''
     (cd build/main && ctest --output-on-failure -j "$jobs" --timeout 900 -LE slow)
