@@ -63,8 +63,7 @@ void main() {
     }
     vec3 lab = flip_linear_rgb_to_hunt_lab(clamp(flip_ycxcz_to_linear_rgb(c), 0.0, 1.0));
     float edge = length(d.xz), point = length(d.yw);
-    uint i = here;
-    uint r = reference_offset + i;
+    uint r = reference_offset + here;
     float valid = f0.w;
     if (mode == 0u) {
         reference[r] = vec4(lab, edge);
@@ -73,7 +72,7 @@ void main() {
     }
     vec4 r0 = reference[r], r1 = reference[r + plane];
     if (r1.y == 0.0) {
-        map[i] = uintBitsToFloat(0x7fc00000u);  // NaN: not pooled
+        map[here] = uintBitsToFloat(0x7fc00000u);  // NaN: not pooled
         return;
     }
     float hyab = abs(r0.x - lab.x) + length(r0.yz - lab.yz);
@@ -83,5 +82,5 @@ void main() {
     float feature = sqrt(max(abs(r0.w - edge), abs(r1.x - point)) * flip_colour.feature.x);
     float exponent = 1.0 - feature;
     // pow(0, y) is undefined in GLSL for y <= 0; the reference's is 0 for y > 0 and 1 at 0.
-    map[i] = colour > 0.0 ? pow(colour, exponent) : (exponent > 0.0 ? 0.0 : 1.0);
+    map[here] = colour > 0.0 ? pow(colour, exponent) : (exponent > 0.0 ? 0.0 : 1.0);
 }

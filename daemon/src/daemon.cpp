@@ -267,9 +267,10 @@ void Daemon::adopt_description(Device& d) {
         if (d.calibration) d.pipeline->set_calibration(*d.calibration);
     }
     // The rings describe the first device: its readers learn a rate measured after the start.
-    if (&d == devices_.front().get() && ring_rate_hz(now) != ring_rate_hz(d.info)) {
-        gaze_ring_.set_nominal_rate_hz(ring_rate_hz(now));
-        head_ring_.set_nominal_rate_hz(ring_rate_hz(now));
+    if (const uint32_t hz = ring_rate_hz(now);
+        &d == devices_.front().get() && hz != ring_rate_hz(d.info)) {
+        gaze_ring_.set_nominal_rate_hz(hz);
+        head_ring_.set_nominal_rate_hz(hz);
     }
     d.info = now;
 }
