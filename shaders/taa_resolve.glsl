@@ -26,14 +26,18 @@ layout(set = 0, binding = 5) uniform sampler2D m2_tex;
 layout(set = 0, binding = 6, TAA_FORMAT) uniform readonly image2D hist_in;
 layout(set = 0, binding = 7, r32f) uniform readonly image2D hist_depth_in;  // last frame's, raw
 layout(set = 0, binding = 8, TAA_FORMAT) uniform writeonly image2D hist_out;
-layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D color_out;
+layout(set = 0, binding = 9, rgba16f) uniform image2D color_out;  // read back for luma_out
 layout(std430, set = 0, binding = 10) readonly buffer TaaTileLists { uint tile[]; } tiles;
+layout(set = 0, binding = 11, r32f) uniform writeonly image2D luma_out;  // when kWriteLuma
 
 // Tile classes, as the lists of taa_tiles.comp.
 const int kFoveal = 0;      // some pixel with LOD < 1 (not all 0)
 const int kPeripheral = 1;  // every LOD ≥ 1
 const int kFullRate = 2;    // every LOD 0
 layout(constant_id = 0) const int kTileClass = kFoveal;
+// Also write enhance_luma.comp's display luminance of color_out for the enhancement pass after
+// this one (PostFrame::display_luma_out), saving it a full-screen pass.
+layout(constant_id = 1) const bool kWriteLuma = false;
 
 layout(push_constant) uniform Push {
     vec2 jitter;  // this frame's sub-pixel jitter, pixels (first: vec2 needs 8-byte alignment)
@@ -48,6 +52,7 @@ layout(push_constant) uniform Push {
     uint list_base;   // first entry of this dispatch's list in `tiles`
 } pc;
 
+#include "enhance_common.glsl"
 #include "taa_common.glsl"
 
 // Catmull-Rom "lite" at continuous pixel position q (texel centres at integer + 0.5): the 4×4
@@ -160,5 +165,13 @@ void main() {
     vec3 t = clamp(taa_ycocg_to_rgb(blended_q), vec3(0.0), vec3(kTaaMaxTonemapped));
     imageStore(hist_out, p, vec4(t, blended_s));
     // Read back what the history stores (half or float) so output and history agree.
-    imageStore(color_out, p, vec4(taa_tonemap_inverse(t), 1.0));
+    vec3 shown = taa_tonemap_inverse(t);
+    imageStore(color_out, p, vec4(shown, 1.0));
+    if (kWriteLuma) {
+        // From the half floats color_out holds, as enhance_luma.comp reads them: read back,
+        // because lavapipe's store rounds to half unlike packHalf2x16 (the bytes differed).
+        vec3 c = imageLoad(color_out, p).rgb;
+        vec3 d = vec3(enh_display_encode(c.r), enh_display_encode(c.g), enh_display_encode(c.b));
+        imageStore(luma_out, p, vec4(clamp(enh_luma(d), 0.0, 1.0)));
+    }
 }

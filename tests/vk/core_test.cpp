@@ -374,6 +374,44 @@ TEST(Foveator, PostChainRunsAndCopies) {
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
 
+// TAA writes the display luminance an enhancement pass after it would compute first; with a copy
+// in between the enhancement computes it itself. Both must give the same bytes, frame after frame.
+TEST(Foveator, TaaHandsTheEnhancementPassTheLuminanceItWouldCompute) {
+    FOVEA_REQUIRE_DEVICE();
+    for (const char* enhancement : {"contrast", "noise"}) {
+        // Wide and coarse enough that the periphery has a noise band (F_L / ppd < 1/2).
+        FoveatorConfig c = config_for(640, 400, "cps");
+        c.display = EyeDisplay::from_fov(640, 400, 50.0, 32.0);
+        c.acuity.foveal_radius_deg = 2.f;
+        c.acuity.transition_deg = 2.f;
+        c.acuity.mar_slope = 0.1f;
+        c.post_chain = {"taa", enhancement};
+        auto fused = Foveator::create(*device, c);
+        c.post_chain = {"taa", "copy", enhancement};
+        auto apart = Foveator::create(*device, c);
+        c.post_chain = {"taa"};
+        auto plain = Foveator::create(*device, c);
+        ASSERT_TRUE(fused) << fused.error().message;
+        ASSERT_TRUE(apart) << apart.error().message;
+        ASSERT_TRUE(plain) << plain.error().message;
+        for (Foveator* f : {&*fused, &*apart, &*plain}) upload_test_gbuffer(*device, *f);
+        bool enhanced = false;
+        for (uint64_t i = 0; i < 4; ++i) {
+            FrameInputs in;
+            in.gaze.x = 0.1f + 0.05f * float(i);
+            in.gaze.y = 0.4f;
+            fused->render_blocking(i, in, {});
+            apart->render_blocking(i, in, {});
+            plain->render_blocking(i, in, {});
+            const auto out = device->read_image(fused->output());
+            EXPECT_EQ(out, device->read_image(apart->output())) << enhancement << " frame " << i;
+            enhanced = enhanced || out != device->read_image(plain->output());
+        }
+        EXPECT_TRUE(enhanced) << enhancement << " changed nothing: the comparison proves nothing";
+    }
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS();
+}
+
 // A host alternating methods frame by frame (fovea bench, the demo) must not blend one method's
 // frame into another's TAA history: each method keeps its own post-chain instance.
 TEST(Foveator, EachMethodKeepsItsOwnPostChainHistory) {

@@ -519,8 +519,13 @@ void Foveator::record(VkCommandBuffer cmd, uint64_t frame_index, const FrameInpu
     if (m.queries)
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, m.queries.get(), q0 + 1);
     const ImageRef* in = &m.shaded_image();
+    bool luma_ready = false;
     for (size_t i = 0; i < m.post_chain.size(); ++i) {
         const ImageRef* out = &m.post[i % 2].ref();
+        const VkImageView luma_out =
+            i + 1 < m.post_chain.size() && m.post_chain[i]->writes_display_luma()
+                ? m.post_chain[i + 1]->display_luma_target()
+                : VK_NULL_HANDLE;
         const PostFrame pf{cmd,
                            slot.frame_set,
                            frame_index,
@@ -532,10 +537,13 @@ void Foveator::record(VkCommandBuffer cmd, uint64_t frame_index, const FrameInpu
                            m.post_depth(),
                            m.post_motion(),
                            m.rate.ref(),
-                           {m.cpu_uniforms.jitter_px[0], m.cpu_uniforms.jitter_px[1]}};
+                           {m.cpu_uniforms.jitter_px[0], m.cpu_uniforms.jitter_px[1]},
+                           luma_out,
+                           luma_ready};
         m.post_chain[i]->record(pf);
         compute_barrier(cmd);
         in = out;
+        luma_ready = luma_out != VK_NULL_HANDLE;
     }
     assert(in == m.output);
     if (m.queries)

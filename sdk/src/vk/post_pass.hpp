@@ -28,6 +28,12 @@ struct PostFrame {
     const ImageRef& motion;     // G-buffer motion (RG16F pixels, current - previous)
     const ImageRef& rate;       // S_t of this frame (R16F; 0 fovea .. 1 coarsest)
     std::array<float, 2> jitter_px;
+    // Where this pass also writes the display luminance of color_out (enhance_luma.comp's R32F,
+    // from the RGBA16F values stored), when the next pass asked for it and this pass
+    // writes_display_luma(); else null.
+    VkImageView display_luma_out = VK_NULL_HANDLE;
+    // The previous pass wrote this pass's display_luma_target() from color_in.
+    bool display_luma_ready = false;
 };
 
 class PostPass {
@@ -35,6 +41,12 @@ public:
     virtual ~PostPass() = default;
     virtual Result<void> init(const ModuleContext& ctx) = 0;
     virtual void record(const PostFrame& frame) = 0;
+    // A pass that starts by computing the display luminance of color_in returns the R32F image
+    // (extent of the frame) it keeps it in; the previous pass fills it when it can, saving a
+    // full-screen pass. Stable after init().
+    virtual VkImageView display_luma_target() const { return VK_NULL_HANDLE; }
+    // This pass honours PostFrame::display_luma_out.
+    virtual bool writes_display_luma() const { return false; }
 };
 
 using PostPassFactory = std::unique_ptr<PostPass> (*)();

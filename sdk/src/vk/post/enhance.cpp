@@ -63,20 +63,24 @@ public:
         return {};
     }
 
+    VkImageView display_luma_target() const override { return pyramid_.mip_view(0); }
+
     void record(const PostFrame& f) override {
         const VkExtent2D e = f.color_in.extent;
-        auto lit = luma_sets_.find(f.color_in.view);
-        if (lit == luma_sets_.end()) {
-            VkDescriptorSet s = luma_.allocate_set();
-            DescriptorWriter(device_, s)
-                .storage_image(0, f.color_in.view)
-                .storage_image(1, pyramid_.mip_view(0))
-                .commit();
-            lit = luma_sets_.emplace(f.color_in.view, s).first;
+        if (!f.display_luma_ready) {
+            auto lit = luma_sets_.find(f.color_in.view);
+            if (lit == luma_sets_.end()) {
+                VkDescriptorSet s = luma_.allocate_set();
+                DescriptorWriter(device_, s)
+                    .storage_image(0, f.color_in.view)
+                    .storage_image(1, pyramid_.mip_view(0))
+                    .commit();
+                lit = luma_sets_.emplace(f.color_in.view, s).first;
+            }
+            luma_.bind(f.cmd, VK_NULL_HANDLE, lit->second);
+            vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
+            compute_barrier(f.cmd);
         }
-        luma_.bind(f.cmd, VK_NULL_HANDLE, lit->second);
-        vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
-        compute_barrier(f.cmd);
         for (uint32_t l = 0; l < reduce_sets_.size(); ++l) {
             reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[l]);
             vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)), 8),

@@ -126,6 +126,8 @@ public:
         return {};
     }
 
+    VkImageView display_luma_target() const override { return pyramid_.mip_view(0); }
+
     void record(const PostFrame& f) override {
         const VkExtent2D e = f.color_in.extent;
         NoisePush push = push_;
@@ -134,9 +136,11 @@ public:
         std::copy_n(f.uniforms.gaze_px, 2, push.gaze_px);
         push.ppd = centre_pixels_per_degree(f.uniforms);
 
-        luma_.bind(f.cmd, VK_NULL_HANDLE, luma_set(f.color_in.view));
-        vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
-        compute_barrier(f.cmd);
+        if (!f.display_luma_ready) {
+            luma_.bind(f.cmd, VK_NULL_HANDLE, luma_set(f.color_in.view));
+            vkCmdDispatch(f.cmd, div_up(e.width, 8), div_up(e.height, 8), 1);
+            compute_barrier(f.cmd);
+        }
         for (uint32_t l = 0; l < reduce_sets_.size(); ++l) {
             reduce_.bind(f.cmd, VK_NULL_HANDLE, reduce_sets_[l]);
             vkCmdDispatch(f.cmd, div_up(std::max(1u, e.width >> (l + 1)), 8),

@@ -5,7 +5,8 @@
 // reference is taa_model.cpp; the shaders are shaders/taa_*.glsl. Options
 // (FoveatorConfig::options): taa.alpha (0.1), taa.alpha_max (1/3), taa.beta (0.25), taa.gamma (1),
 // taa.depth_tolerance (0.05), taa.saccade (1 = on), taa.precision (half | float: moment and
-// history storage).
+// history storage), taa.share_luma (1: when an enhancement pass follows, the resolve also writes
+// its display luminance, PostPass::writes_display_luma; 0 for comparison).
 // Called on the host's render thread (PostPass contract).
 #include <algorithm>
 #include <array>
@@ -56,6 +57,7 @@ public:
         push_.gamma = float(ctx.option_number("taa.gamma", 1.0));
         push_.depth_tolerance = float(ctx.option_number("taa.depth_tolerance", 0.05));
         saccade_ = ctx.option_number("taa.saccade", 1.0) != 0.0;
+        share_luma_ = ctx.option_number("taa.share_luma", 1.0) != 0.0;
         const std::string precision = ctx.option("taa.precision", "half");
         if (precision != "half" && precision != "float")
             return make_error("taa.precision must be half or float, not '" + precision + "'");
@@ -101,15 +103,18 @@ public:
         const Binding red_b[] = {img, img, img, img};
         const Binding buf{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
         const Binding tiles_b[] = {img, buf, buf};
-        const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, buf};
+        const Binding res_b[] = {img, img, img, img, tex, tex, img, img, img, img, buf, img};
         moments_ = ctx.builtin_pipeline("taa_moments" + suffix, mom_b, 0, false);
         reduce_ = ctx.builtin_pipeline("taa_reduce" + suffix, red_b, 0, false);
         tiles_ = ctx.builtin_pipeline("taa_tiles.comp", tiles_b, sizeof(TilesPush), false);
-        for (uint32_t list = 0; list < kTileLists; ++list) {
-            const uint32_t tile_class[] = {list};
-            resolve_[list] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
-                                                  sizeof(ResolvePush), false, tile_class);
-        }
+        for (uint32_t luma = 0; luma < 2; ++luma)
+            for (uint32_t list = 0; list < kTileLists; ++list) {
+                const uint32_t spec[] = {list, luma};  // kTileClass, kWriteLuma
+                resolve_[luma][list] = ctx.builtin_pipeline("taa_resolve" + suffix, res_b,
+                                                            sizeof(ResolvePush), false, spec);
+            }
+        // What binding 11 holds when no pass after this one takes the luminance.
+        no_luma_ = Image(ctx.device, {1, 1}, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
         // Mip 0 (level 1) comes from the moments pass; the rest are 2×2 reductions.
         for (uint32_t l = 0; l + 1 < stored; ++l) {
             VkDescriptorSet s = reduce_.allocate_set();
@@ -186,13 +191,16 @@ public:
 
         const int src = parity_;
         const int dst = 1 - parity_;
+        const bool write_luma = f.display_luma_out != VK_NULL_HANDLE;
+        const VkImageView luma = write_luma ? f.display_luma_out : no_luma_.view();
+        auto& resolve = resolve_[write_luma ? 1 : 0];
         const auto key = std::make_tuple(f.color_in.view, f.color_out.view, f.depth.view,
-                                         f.motion.view, f.rate.view, src);
+                                         f.motion.view, f.rate.view, src, luma);
         auto rit = resolve_sets_.find(key);
         if (rit == resolve_sets_.end()) {
             std::array<VkDescriptorSet, kTileLists> sets{};
             for (uint32_t list = 0; list < kTileLists; ++list) {
-                sets[list] = resolve_[list].allocate_set();
+                sets[list] = resolve[list].allocate_set();
                 DescriptorWriter(device_, sets[list])
                     .storage_image(0, f.color_in.view)
                     .storage_image(1, f.depth.view)
@@ -205,6 +213,7 @@ public:
                     .storage_image(8, hist_[dst].view())
                     .storage_image(9, f.color_out.view)
                     .storage_buffer(10, tile_lists_)
+                    .storage_image(11, luma)
                     .commit();
             }
             rit = resolve_sets_.emplace(key, sets).first;
@@ -217,29 +226,35 @@ public:
         push.tiles_x = tiles_x_;
         for (uint32_t list = 0; list < kTileLists; ++list) {
             push.list_base = list * tiles_x_ * tiles_y_;
-            resolve_[list].bind(f.cmd, VK_NULL_HANDLE, rit->second[list], &push, sizeof(push));
+            resolve[list].bind(f.cmd, VK_NULL_HANDLE, rit->second[list], &push, sizeof(push));
             vkCmdDispatchIndirect(f.cmd, tile_args_.get(), list * 16);
         }
         parity_ = dst;
         valid_ = true;
     }
 
+    bool writes_display_luma() const override { return share_luma_; }
+
 private:
     VkDevice device_ = VK_NULL_HANDLE;
     LinearClampSampler sampler_;
     ResolvePush push_{};
     bool saccade_ = true;
+    bool share_luma_ = true;
     bool valid_ = false;
     int parity_ = 0;
     Image m1_, m2_;
     std::array<Image, 2> hist_, hist_depth_;
+    Image no_luma_;
     uint32_t tiles_x_ = 0, tiles_y_ = 0;
     Buffer tile_args_, tile_lists_;  // taa_tiles.comp's indirect arguments and tile lists
     ComputePipeline moments_, reduce_, tiles_;
-    std::array<ComputePipeline, kTileLists> resolve_;  // per tile class
+    // [writes display luminance][tile class]
+    std::array<std::array<ComputePipeline, kTileLists>, 2> resolve_;
     std::vector<VkDescriptorSet> reduce_sets_;
     std::map<VkImageView, VkDescriptorSet> moment_sets_, tile_sets_;
-    std::map<std::tuple<VkImageView, VkImageView, VkImageView, VkImageView, VkImageView, int>,
+    std::map<std::tuple<VkImageView, VkImageView, VkImageView, VkImageView, VkImageView, int,
+                        VkImageView>,
              std::array<VkDescriptorSet, kTileLists>>
         resolve_sets_;
 };
