@@ -28,6 +28,18 @@ shared vec4 s_impulse[kBlockCells * kBlockCells * kMaxPerCell];
 shared float s_amplitude[kBlockCells * kBlockCells * kMaxPerCell];
 shared float s_peak[kBlockCells * kBlockCells];
 
+// Why per-strip lists: a pixel's 3x3 cells hold ~9/pi times the impulses its kernel disc can
+// reach, and lavapipe runs every impulse of the loop for all lanes (a skipped one only masks
+// them). The tile is cut into 8x4-pixel strips (lanes 0..7 of a row share one strip) and each
+// strip keeps, in the 3x3 loop's order, only the impulses within reach of some pixel of it.
+// What a pixel still visits is its 3x3 loop minus impulses it skipped anyway (d2 >= r2), so the
+// sum is the same, term for term.
+const ivec2 kStrip = ivec2(8, 4);
+const int kStrips = (16 / 8) * (16 / 4);
+const int kListCap = kBlockCells * kBlockCells * kMaxPerCell;
+shared uint s_list[kStrips * kListCap];  // slot | local cell << 16
+shared int s_count[kStrips];
+
 void main() {
     // Grid index (origin at cell (-1, -1)) of the home cell of the tile's first pixel; every
     // pixel of the tile has home + 1 - block_origin in [0, 1] per axis.
@@ -47,32 +59,50 @@ void main() {
         bool in_grid = all(lessThan(g, ivec2(pc.cells_x, pc.cells_y)));
         s_peak[lane] = in_grid ? cell_peak[g.y * pc.cells_x + g.x] : 0.0;
     }
-    barrier();  // every invocation reaches it: the out-of-image return comes after
+    barrier();
+    float r2 = pc.radius * pc.radius;
+    if (lane < kStrips) {
+        // Pixel centres of this strip; an impulse farther than r from all of them (with a
+        // margin for rounding) adds to none.
+        vec2 lo = vec2(tile_first + ivec2(lane % 2, lane / 2) * kStrip) + 0.5;
+        vec2 hi = lo + vec2(kStrip - 1);
+        float reach = r2 * 1.001 + 1.0;
+        int n = 0;
+        for (int cell = 0; cell < kBlockCells * kBlockCells; ++cell) {
+            if (!(s_peak[cell] > 0.0)) continue;
+            for (int k = 0; k < pc.per_cell; ++k) {
+                int slot = cell * pc.per_cell + k;
+                if (s_amplitude[slot] == 0.0) continue;
+                vec2 gap = max(max(lo - s_impulse[slot].xy, s_impulse[slot].xy - hi), vec2(0.0));
+                if (dot(gap, gap) >= reach) continue;
+                s_list[lane * kListCap + n] = uint(slot) | (uint(cell) << 16);
+                ++n;
+            }
+        }
+        s_count[lane] = n;
+    }
+    barrier();  // every invocation reaches both: the out-of-image return comes after
 
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, imageSize(color_in)))) return;
     vec2 px = vec2(p) + 0.5;
     ivec2 home = ivec2(floor(px / pc.radius));
     ivec2 local_home = home - block_origin;  // in [0, 1]: its neighbourhood is local_home + 0..2
-    float r2 = pc.radius * pc.radius;
     float envelope = -kNoisePi * pc.bandwidth * pc.bandwidth;
     float acc = 0.0;
-    for (int dj = -1; dj <= 1; ++dj) {
-        for (int di = -1; di <= 1; ++di) {
-            ivec2 c = local_home + ivec2(di, dj) + 1;
-            int cell = c.y * kBlockCells + c.x;
-            if (!(s_peak[cell] > 0.0)) continue;
-            for (int k = 0; k < pc.per_cell; ++k) {
-                int slot = cell * pc.per_cell + k;
-                float w = s_amplitude[slot];
-                if (w == 0.0) continue;
-                vec4 imp = s_impulse[slot];
-                vec2 d = px - imp.xy;
-                float d2 = dot(d, d);
-                if (d2 >= r2) continue;
-                acc += w * exp(envelope * d2) * cos(dot(d, imp.zw));
-            }
-        }
+    ivec2 strip = ivec2(gl_LocalInvocationID.xy) / kStrip;
+    int list = strip.y * 2 + strip.x;
+    for (int i = 0; i < s_count[list]; ++i) {
+        uint entry = s_list[list * kListCap + i];
+        int cell = int(entry >> 16);
+        ivec2 c = ivec2(cell % kBlockCells, cell / kBlockCells) - local_home;
+        if (any(lessThan(c, ivec2(0))) || any(greaterThan(c, ivec2(2)))) continue;  // not its 3x3
+        int slot = int(entry & 0xffffu);
+        vec4 imp = s_impulse[slot];
+        vec2 d = px - imp.xy;
+        float d2 = dot(d, d);
+        if (d2 >= r2) continue;
+        acc += s_amplitude[slot] * exp(envelope * d2) * cos(dot(d, imp.zw));
     }
     vec4 colour = imageLoad(color_in, p);
     // Non-finite input becomes finite, as in the other enhancement passes; HDR stays HDR.
