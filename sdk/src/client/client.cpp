@@ -96,7 +96,8 @@ int attach(fovea_client* c) {
         return fail(FOVEA_E_NOT_FOUND, "ring %s is not initialised yet", c->name);
     }
     const auto bytes = static_cast<std::size_t>(st.st_size);
-    void* base = mmap(nullptr, bytes, PROT_READ, MAP_SHARED, fd, 0);
+    // Page tables filled now, not by a fault on each page's first read while waiting for gaze.
+    void* base = mmap(nullptr, bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, fd, 0);
     if (base == MAP_FAILED) {
         int e = errno;
         close(fd);

@@ -63,7 +63,16 @@ Result<RingWriter> RingWriter::create(const WriterOptions& options) {
         shm_unlink(name);
         return e;
     }
-    void* base = mmap(nullptr, w.bytes_, PROT_READ | PROT_WRITE, MAP_SHARED, w.fd_, 0);
+    // Every page now, not at its first publish: a first touch is a page fault (tens of us in a
+    // VM, in the writer and in every reader), and a full /dev/shm fails here, not as SIGBUS.
+    if (const int e = posix_fallocate(w.fd_, 0, static_cast<off_t>(w.bytes_)); e != 0) {
+        errno = e;
+        auto err = sys_error(std::string("allocating ") + name);
+        shm_unlink(name);
+        return err;
+    }
+    void* base =
+        mmap(nullptr, w.bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, w.fd_, 0);
     if (base == MAP_FAILED) {
         auto e = sys_error(std::string("mmap ") + name);
         shm_unlink(name);
