@@ -7,60 +7,32 @@
 #include <array>
 #include <cmath>
 
+#include "builders_for_fuzz.hpp"
 #include "hid/hid_driver.hpp"
 #include "hid/session.hpp"
 #include "hid/tracker.hpp"
-#include "hid_builders.hpp"
 
 using namespace fovea::drivers::hid;
 using fovea::test::DescriptorBuilder;
 using fovea::test::kConstVarAbs;
 using fovea::test::kDataVarAbs;
+using fovea::test::kMax32;
+using fovea::test::kMin32;
 using fovea::test::kNullState;
 using fovea::test::ReportBuilder;
 
 namespace {
 
-constexpr int32_t kMin32 = -2147483647 - 1;
-constexpr int32_t kMax32 = 2147483647;
-
 uint64_t u32(int64_t v) { return static_cast<uint64_t>(v) & 0xFFFFFFFFull; }
 
 // Descriptor A: the layout of the Windows reference eye tracker, written from HUTRR74: report ID
-// 0x10 Tracking Data with 3 padding bytes, a 64-bit timestamp declared as 8 one-byte fields, gaze
-// point and both eye positions as 32-bit signed micrometres; Capabilities 0x11, Configuration
-// 0x12 and Status 0x13 feature reports.
+// 0x10 Tracking Data (reference_tracking_data: 3 padding bytes, a 64-bit timestamp declared as 8
+// one-byte fields, gaze point and both eye positions as 32-bit signed micrometres); Capabilities
+// 0x11, Configuration 0x12 and Status 0x13 feature reports.
 DescriptorBuilder descriptor_a() {
     DescriptorBuilder d;
     d.usage_page(0x12).usage(0x01).collection(1);
-    d.usage(0x10).collection(2).report_id(0x10);
-    d.logical_min(0).logical_max(255).report_size(8).report_count(3).input(kConstVarAbs);  // 0..23
-    d.usage(0x20).report_count(8).input(kDataVarAbs);                                      // 24..87
-    d.report_count(1).report_size(32).logical_min(kMin32).logical_max(kMax32);
-    d.usage(0x24)
-        .collection(0)
-        .report_count(2)
-        .usage(0x21)
-        .usage(0x22)
-        .input(kDataVarAbs)
-        .end_collection();  // X 88, Y 120
-    d.usage(0x25)
-        .collection(0)
-        .report_count(3)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs)
-        .end_collection();  // 152, 184, 216
-    d.usage(0x26)
-        .collection(0)
-        .report_count(3)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs)
-        .end_collection();  // 248, 280, 312
-    d.end_collection();
+    fovea::test::reference_tracking_data(d);
     d.usage(0x11).collection(2).report_id(0x11);
     d.report_size(8).report_count(1).logical_min(1).logical_max(4).usage(0x100).feature(
         kConstVarAbs);  // quality @0
@@ -257,46 +229,10 @@ TEST(HidTracker, CentimetreUnitsAndOtherFieldOrderAreHonoured) {
     EXPECT_NEAR(s.left.y, -100000.0 / 299000.0, 1e-12);  // above the screen: reported as is
 }
 
-// Descriptor C: no report IDs, 12-bit gaze with a physical range (0..4094 -> 0..530000 um) and a
-// null state, 4 bits of padding, a 20-bit timestamp; calibrated size in an unnumbered feature.
-DescriptorBuilder descriptor_c() {
-    DescriptorBuilder d;
-    d.usage_page(0x12).usage(0x01).collection(1);
-    d.usage(0x10).collection(0);
-    d.logical_min(0)
-        .logical_max(4094)
-        .physical_min(0)
-        .physical_max(530000)
-        .report_size(12)
-        .report_count(2)
-        .usage(0x24)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .input(kDataVarAbs | kNullState)
-        .end_collection();                                 // 0, 12
-    d.report_size(4).report_count(1).input(kConstVarAbs);  // 24..27
-    d.physical_min(0)
-        .physical_max(0)
-        .logical_min(0)
-        .logical_max(0xFFFFF)
-        .report_size(20)
-        .usage(0x20)
-        .input(kDataVarAbs);  // 28..47
-    d.end_collection();
-    d.usage(0x12)
-        .collection(2)
-        .logical_min(0)
-        .logical_max(kMax32)
-        .report_size(32)
-        .report_count(2)
-        .usage(0x204)
-        .usage(0x205)
-        .feature(kDataVarAbs)
-        .end_collection();
-    d.end_collection();
-    return d;
-}
+// Descriptor C (unnumbered_packed_descriptor): no report IDs, 12-bit gaze with a physical range
+// (0..4094 -> 0..530000 um) and a null state, 4 bits of padding, a 20-bit timestamp; calibrated
+// size in an unnumbered feature.
+DescriptorBuilder descriptor_c() { return fovea::test::unnumbered_packed_descriptor(); }
 
 TEST(HidTracker, UnnumberedPackedFieldsWithPhysicalRangeAndNullValues) {
     auto session = TrackerSession::create(descriptor_c().bytes);
@@ -342,14 +278,8 @@ DescriptorBuilder descriptor_d() {
         .input(kDataVarAbs)
         .report_count(5)
         .input(kConstVarAbs);
-    d.usage_page(0x01)
-        .usage(0x30)
-        .usage(0x31)
-        .logical_min(-127)
-        .logical_max(127)
-        .report_size(8)
-        .report_count(2)
-        .input(kDataVarAbs | 0x04);
+    d.usage_page(0x01);
+    fovea::test::mouse_xy(d);
     d.end_collection();
     d.usage_ext(0x12, 0x01).collection(1);
     d.usage_ext(0x12, 0x10).collection(2).report_id(2).usage_page(0x12);
@@ -362,16 +292,8 @@ DescriptorBuilder descriptor_d() {
         .input(kDataVarAbs)
         .pop();  // 0
     d.long_item(0xF1, {0xDE, 0xAD});
-    d.logical_min(-1000000)
-        .logical_max(1000000)
-        .report_size(24)
-        .report_count(2)
-        .usage(0x24)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .input(kDataVarAbs)
-        .end_collection();  // 16, 40
+    d.logical_min(-1000000).logical_max(1000000).report_size(24).report_count(2);
+    fovea::test::gaze_point(d);  // 16, 40
     d.end_collection().end_collection();
     d.usage(0x02).collection(1).usage(0x10).collection(2).report_id(3);
     d.logical_min(0)
@@ -381,29 +303,9 @@ DescriptorBuilder descriptor_d() {
         .usage(0x20)
         .input(kDataVarAbs);  // 0
     d.logical_min(kMin32).logical_max(kMax32).report_count(3);
-    d.usage(0x27)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs)
-        .end_collection();  // 32, 64, 96
-    d.usage(0x28)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs)
-        .end_collection();  // 128, 160, 192
-    d.unit(0x12)
-        .unit_exponent(-3)
-        .logical_min(-3142)
-        .logical_max(3142)
-        .report_size(16)
-        .report_count(3)
-        .usage_min(0x29)
-        .usage_max(0x2B)
-        .input(kDataVarAbs);  // 224, 240, 256
+    fovea::test::xyz_point(d, 0x27);     // 32, 64, 96
+    fovea::test::xyz_point(d, 0x28);     // 128, 160, 192
+    fovea::test::head_rotation_mrad(d);  // 224, 240, 256
     d.end_collection().end_collection();
     return d;
 }
@@ -520,31 +422,11 @@ TEST(HidTracker, FieldOrderAndReportIdDoNotMatter) {
 TEST(HidTracker, NullEyePositionMarksThatEyeInvalid) {
     DescriptorBuilder d;
     d.usage_page(0x12).usage(0x01).collection(1).usage(0x10).collection(2).report_id(9);
-    d.logical_min(0)
-        .logical_max(1000000)
-        .report_size(32)
-        .report_count(2)
-        .usage(0x24)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .input(kDataVarAbs | kNullState)
-        .end_collection();
-    d.report_count(3)
-        .usage(0x25)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs | kNullState)
-        .end_collection();
-    d.usage(0x26)
-        .collection(0)
-        .usage(0x21)
-        .usage(0x22)
-        .usage(0x23)
-        .input(kDataVarAbs | kNullState)
-        .end_collection();
+    d.logical_min(0).logical_max(1000000).report_size(32).report_count(2);
+    fovea::test::gaze_point(d, kDataVarAbs | kNullState);
+    d.report_count(3);
+    fovea::test::xyz_point(d, 0x25, kDataVarAbs | kNullState);
+    fovea::test::xyz_point(d, 0x26, kDataVarAbs | kNullState);
     d.end_collection().end_collection();
     auto session = TrackerSession::create(d.bytes, 500000, 300000);
     ASSERT_TRUE(session.ok());
