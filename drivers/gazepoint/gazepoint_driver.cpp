@@ -34,11 +34,6 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-template <typename T>
-Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    return drivers::read_key("gazepoint", t, key, out);
-}
-
 class GazepointDriver final : public Driver {
 public:
     GazepointDriver(const GazepointConfig& config, uint32_t device_id)
@@ -282,17 +277,14 @@ Result<GazepointConfig> parse_config(const toml::table& t) {
     GazepointConfig c;
     std::string address = c.host + ":" + c.port, gaze = "eyes";
     int64_t rmin = c.reconnect_min_ms, rmax = c.reconnect_max_ms;
-    Result<void> r;
-    const auto check = [&](Result<void> res) {
-        if (r.ok() && !res.ok()) r = res;
-    };
-    check(read_key(t, "address", address));
-    check(read_key(t, "gaze", gaze));
-    check(read_key(t, "rate_hz", c.rate_hz));
-    check(read_key(t, "reconnect_min_ms", rmin));
-    check(read_key(t, "reconnect_max_ms", rmax));
-    check(read_key(t, "tick_hz", c.tick_hz));
-    if (!r.ok()) return r.error();
+    ConfigKeys keys("gazepoint", t);
+    keys.read("address", address);
+    keys.read("gaze", gaze);
+    keys.read("rate_hz", c.rate_hz);
+    keys.read("reconnect_min_ms", rmin);
+    keys.read("reconnect_max_ms", rmax);
+    keys.read("tick_hz", c.tick_hz);
+    if (!keys.result().ok()) return keys.result().error();
     if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10))
         return make_error("gazepoint: tick_hz must be 1..1e10");
     // host:port, [v6]:port, or a bare host (default port).
@@ -320,8 +312,7 @@ Result<GazepointConfig> parse_config(const toml::table& t) {
         return make_error("gazepoint: gaze must be \"eyes\" or \"best\", got '" + gaze + "'");
     if (c.rate_hz < 0 || c.rate_hz > 10000)
         return make_error("gazepoint: rate_hz must be 0..10000");
-    if (rmin < 1 || rmax < rmin || rmax > 600'000)
-        return make_error("gazepoint: need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
+    if (auto v = check_reconnect_range("gazepoint", rmin, rmax); !v.ok()) return v.error();
     c.host = host;
     c.port = port;
     c.gaze = gaze == "best" ? GazeSource::kBest : GazeSource::kEyes;

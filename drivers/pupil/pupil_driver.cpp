@@ -300,23 +300,20 @@ private:
 
 Result<PupilConfig> parse_config(const toml::table& t) {
     PupilConfig c;
-    Result<void> r;
-    const auto check = [&](Result<void> res) {
-        if (r.ok() && !res.ok()) r = res;
-    };
+    ConfigKeys keys("pupil", t);
     int64_t rounds = c.sync_rounds, timeout = c.request_timeout_ms, rmin = c.reconnect_min_ms,
             rmax = c.reconnect_max_ms;
-    check(read_key("pupil", t, "address", c.address));
-    check(read_key("pupil", t, "min_confidence", c.min_confidence));
-    check(read_key("pupil", t, "rate_hz", c.rate_hz));
-    check(read_key("pupil", t, "sync_interval_s", c.sync_interval_s));
-    check(read_key("pupil", t, "sync_rounds", rounds));
-    check(read_key("pupil", t, "set_pupil_clock", c.set_pupil_clock));
-    check(read_key("pupil", t, "request_timeout_ms", timeout));
-    check(read_key("pupil", t, "silence_s", c.silence_s));
-    check(read_key("pupil", t, "reconnect_min_ms", rmin));
-    check(read_key("pupil", t, "reconnect_max_ms", rmax));
-    if (!r) return r.error();
+    keys.read("address", c.address);
+    keys.read("min_confidence", c.min_confidence);
+    keys.read("rate_hz", c.rate_hz);
+    keys.read("sync_interval_s", c.sync_interval_s);
+    keys.read("sync_rounds", rounds);
+    keys.read("set_pupil_clock", c.set_pupil_clock);
+    keys.read("request_timeout_ms", timeout);
+    keys.read("silence_s", c.silence_s);
+    keys.read("reconnect_min_ms", rmin);
+    keys.read("reconnect_max_ms", rmax);
+    if (!keys.result().ok()) return keys.result().error();
     if (const toml::node* n = t.get("topics")) {
         const toml::array* a = n->as_array();
         if (!a || a->empty())

@@ -33,11 +33,6 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-template <typename T>
-Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    return drivers::read_key("serial", t, key, out);
-}
-
 class SerialDriver final : public Driver {
 public:
     SerialDriver(const SerialConfig& config, uint32_t device_id)
@@ -288,18 +283,15 @@ Result<SerialConfig> parse_config(const toml::table& t) {
     SerialConfig c;
     int64_t baud = c.baud, rmin = c.reconnect_min_ms, rmax = c.reconnect_max_ms;
     int64_t bits = c.counter_bits;
-    Result<void> r;
-    const auto check = [&](Result<void> res) {
-        if (r.ok() && !res.ok()) r = res;
-    };
-    check(read_key(t, "port", c.port));
-    check(read_key(t, "baud", baud));
-    check(read_key(t, "rate_hz", c.rate_hz));
-    check(read_key(t, "reconnect_min_ms", rmin));
-    check(read_key(t, "reconnect_max_ms", rmax));
-    check(read_key(t, "counter_bits", bits));
-    check(read_key(t, "tick_hz", c.tick_hz));
-    if (!r.ok()) return r.error();
+    ConfigKeys keys("serial", t);
+    keys.read("port", c.port);
+    keys.read("baud", baud);
+    keys.read("rate_hz", c.rate_hz);
+    keys.read("reconnect_min_ms", rmin);
+    keys.read("reconnect_max_ms", rmax);
+    keys.read("counter_bits", bits);
+    keys.read("tick_hz", c.tick_hz);
+    if (!keys.result().ok()) return keys.result().error();
     if (bits != 16 && bits != 32 && bits != 64)
         return make_error("serial: counter_bits must be 16, 32 or 64");
     if (!(c.tick_hz >= 1 && c.tick_hz <= 1e10))
@@ -310,8 +302,7 @@ Result<SerialConfig> parse_config(const toml::table& t) {
     if (baud < 50 || baud > 20'000'000) return make_error("serial: baud must be 50..20000000");
     if (c.rate_hz != 0 && !(c.rate_hz >= 1 && c.rate_hz <= 10000))
         return make_error("serial: rate_hz must be 1..10000 (or 0 to keep the device's)");
-    if (rmin < 1 || rmax < rmin || rmax > 600'000)
-        return make_error("serial: need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
+    if (auto v = check_reconnect_range("serial", rmin, rmax); !v.ok()) return v.error();
     c.baud = static_cast<uint32_t>(baud);
     c.reconnect_min_ms = static_cast<int>(rmin);
     c.reconnect_max_ms = static_cast<int>(rmax);

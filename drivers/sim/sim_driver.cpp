@@ -34,46 +34,38 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-template <typename T>
-Result<void> read_key(const toml::table& t, const char* key, T& out) {
-    return drivers::read_key("sim", t, key, out);
-}
-
 Result<SimConfig> parse_config(const toml::table& t) {
     SimConfig c;
     int64_t seed = static_cast<int64_t>(c.seed), bits = c.counter_bits;
-    Result<void> r;
-    const auto check = [&](Result<void> res) {
-        if (r.ok() && !res.ok()) r = res;
-    };
-    check(read_key(t, "seed", seed));
-    check(read_key(t, "rate_hz", c.rate_hz));
-    check(read_key(t, "binocular", c.binocular));
-    check(read_key(t, "noise_deg", c.noise_deg));
-    check(read_key(t, "tremor_deg", c.tremor_deg));
-    check(read_key(t, "drift_dps", c.drift_dps));
-    check(read_key(t, "vergence_deg", c.vergence_deg));
-    check(read_key(t, "fixation_mean_ms", c.fixation_mean_ms));
-    check(read_key(t, "saccade_median_deg", c.saccade_median_deg));
-    check(read_key(t, "blink_rate_hz", c.blink_rate_hz));
-    check(read_key(t, "pursuit_share", c.pursuit_share));
-    check(read_key(t, "pupil_mm", c.pupil_mm));
-    check(read_key(t, "distortion", c.distortion));
-    check(read_key(t, "counter_bits", bits));
-    check(read_key(t, "tick_hz", c.tick_hz));
-    check(read_key(t, "drift_ppm", c.drift_ppm));
-    check(read_key(t, "counter_offset", c.counter_offset));
+    ConfigKeys keys("sim", t);
+    keys.read("seed", seed);
+    keys.read("rate_hz", c.rate_hz);
+    keys.read("binocular", c.binocular);
+    keys.read("noise_deg", c.noise_deg);
+    keys.read("tremor_deg", c.tremor_deg);
+    keys.read("drift_dps", c.drift_dps);
+    keys.read("vergence_deg", c.vergence_deg);
+    keys.read("fixation_mean_ms", c.fixation_mean_ms);
+    keys.read("saccade_median_deg", c.saccade_median_deg);
+    keys.read("blink_rate_hz", c.blink_rate_hz);
+    keys.read("pursuit_share", c.pursuit_share);
+    keys.read("pupil_mm", c.pupil_mm);
+    keys.read("distortion", c.distortion);
+    keys.read("counter_bits", bits);
+    keys.read("tick_hz", c.tick_hz);
+    keys.read("drift_ppm", c.drift_ppm);
+    keys.read("counter_offset", c.counter_offset);
     if (const toml::table* d = t["display"].as_table()) {
         int64_t w = c.display.width_px, h = c.display.height_px;
-        check(read_key(*d, "width_px", w));
-        check(read_key(*d, "height_px", h));
-        check(read_key(*d, "width_m", c.display.width_m));
-        check(read_key(*d, "height_m", c.display.height_m));
-        check(read_key(*d, "distance_m", c.display.distance_m));
+        keys.read(*d, "width_px", w);
+        keys.read(*d, "height_px", h);
+        keys.read(*d, "width_m", c.display.width_m);
+        keys.read(*d, "height_m", c.display.height_m);
+        keys.read(*d, "distance_m", c.display.distance_m);
         c.display.width_px = static_cast<int>(std::clamp<int64_t>(w, 0, 1 << 20));
         c.display.height_px = static_cast<int>(std::clamp<int64_t>(h, 0, 1 << 20));
     }
-    if (!r.ok()) return r.error();
+    if (!keys.result().ok()) return keys.result().error();
     c.seed = static_cast<uint64_t>(seed);
     c.counter_bits = static_cast<int>(bits);
     if (auto v = validate(c); !v.ok()) return v.error();

@@ -7,13 +7,17 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+
+#include "fovea/result.hpp"
 
 namespace fovea::drivers {
 
@@ -80,5 +84,14 @@ private:
     std::optional<boost::asio::steady_timer> timer_;
     std::function<void()> connect_;
 };
+
+// The serial and Gazepoint drivers' check of their reconnect_min_ms and reconnect_max_ms keys:
+// 1 <= min <= max <= 600000 (ten minutes); the error starts with the driver's name.
+inline Result<void> check_reconnect_range(const char* driver, int64_t min_ms, int64_t max_ms) {
+    if (min_ms < 1 || max_ms < min_ms || max_ms > 600'000)
+        return make_error(std::string(driver) +
+                          ": need 1 <= reconnect_min_ms <= reconnect_max_ms <= 600000");
+    return {};
+}
 
 }  // namespace fovea::drivers

@@ -49,6 +49,31 @@ Result<void> read_key(const char* driver, const toml::table& t, const char* key,
     return {};
 }
 
+// A driver's `[[device]]` keys read one after another with read_key under the driver's name:
+// every read runs, and result() is the first error (a key of the wrong type), or ok.
+class ConfigKeys {
+public:
+    ConfigKeys(const char* driver, const toml::table& table) : driver_(driver), table_(table) {}
+
+    template <typename T>
+    void read(const char* key, T& out) {
+        read(table_, key, out);
+    }
+    // A key of a sub-table (e.g. [device.display]).
+    template <typename T>
+    void read(const toml::table& t, const char* key, T& out) {
+        Result<void> r = read_key(driver_, t, key, out);
+        if (result_.ok() && !r.ok()) result_ = std::move(r);
+    }
+
+    const Result<void>& result() const { return result_; }
+
+private:
+    const char* driver_;
+    const toml::table& table_;
+    Result<void> result_;
+};
+
 // A USB vendor or product id from config: an integer or a hex string ("046d", "0x046d").
 inline std::optional<uint16_t> parse_usb_id(const toml::node_view<const toml::node>& v) {
     if (auto i = v.value<int64_t>(); i && *i >= 0 && *i <= 0xFFFF) return static_cast<uint16_t>(*i);
