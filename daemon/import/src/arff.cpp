@@ -138,16 +138,9 @@ public:
 
     Item next() override {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            line = trim(line);
-            if (line.empty() || line.front() == '%') continue;
-            if (cut_off(lines_, n)) break;
-            split(line, ',', fields_);
-            if (fields_.size() != attrs_.size()) {
-                skip_field_count(n, attrs_.size(), fields_.size(), "values");
-                continue;
-            }
+        uint64_t n = 0;
+        const RowFormat row{.comment = '%', .exact = true, .what = "values"};
+        while (next_row(lines_, row, attrs_.size(), line, fields_, n)) {
             double t = 0, x = gaze::kNaN, y = gaze::kNaN, conf = 1.0;
             if (!parse_double(fields_[t_], t)) {
                 skip(n, "time is not a number: '" + printable(line) + "'");

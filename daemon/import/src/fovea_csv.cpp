@@ -58,16 +58,8 @@ public:
 
     Item next() override {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            line = trim(line);
-            if (line.empty() || line.front() == '#') continue;
-            if (cut_off(lines_, n)) break;
-            split(line, ',', fields_);
-            if (fields_.size() < columns_.size()) {
-                skip_field_count(n, columns_.size(), fields_.size());
-                continue;
-            }
+        uint64_t n = 0;
+        while (next_row(lines_, {.comment = '#'}, columns_.size(), line, fields_, n)) {
             int64_t t = 0;
             if (!parse_int(fields_[t_], t) || t < 0) {
                 skip(n, "t_capture_ns is not a non-negative integer");

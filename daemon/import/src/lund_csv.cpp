@@ -86,16 +86,8 @@ public:
 
     Item next() override {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            line = trim(line);
-            if (line.empty()) continue;
-            if (cut_off(lines_, n)) break;
-            split(line, ',', fields_);
-            if (fields_.size() < columns_.size()) {
-                skip_field_count(n, columns_.size(), fields_.size());
-                continue;
-            }
+        uint64_t n = 0;
+        while (next_row(lines_, {}, columns_.size(), line, fields_, n)) {
             double t = gaze::kNaN, x = 0, y = 0, label = 6;
             if (!parse_double(fields_[x_], x) || !parse_double(fields_[y_], y)) {
                 skip(n, "x_px/y_px is not a number: '" + printable(line) + "'");

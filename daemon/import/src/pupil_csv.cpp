@@ -117,16 +117,8 @@ private:
     // input ended.
     void read_one() {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            line = trim(line);
-            if (line.empty()) continue;
-            if (cut_off(lines_, n)) break;
-            split(line, ',', fields_);
-            if (fields_.size() < columns_.size()) {
-                skip_field_count(n, columns_.size(), fields_.size());
-                continue;
-            }
+        uint64_t n = 0;
+        while (next_row(lines_, {}, columns_.size(), line, fields_, n)) {
             const double t = field(t_);
             if (!std::isfinite(t) || t < 0 || t > 9e9) {
                 skip(n, "time stamp is not a number of seconds: '" + printable(line) + "'");

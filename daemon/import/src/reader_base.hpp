@@ -6,6 +6,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "fovea/import/reader.hpp"
 #include "text.hpp"
@@ -135,6 +137,38 @@ protected:
                           const char* what = "fields") {
         skip(line,
              "expected " + std::to_string(want) + " " + what + ", got " + std::to_string(got));
+    }
+
+    // How next_row cuts the lines of a delimited text into fields.
+    struct RowFormat {
+        char sep = ',';
+        char comment = '\0';          // lines that start with it (after blanks) are passed over
+        bool trim_line = true;        // the row is the line trimmed (false: as it is, blanks kept)
+        bool exact = false;           // a row needs exactly `want` fields, not at least `want`
+        const char* what = "fields";  // what skip_field_count calls them
+    };
+
+    // The next data row of a delimited text. Blank lines (and comments) are passed over, a cut-off
+    // last line is reported (cut_off) and ends the rows, a row with too few fields (`exact`: any
+    // other number) is skipped (skip_field_count). False at the end of the rows; otherwise `line`
+    // is the row, `fields` its fields and `n` its line number.
+    bool next_row(LineReader& lines, const RowFormat& format, std::size_t want,
+                  std::string_view& line, std::vector<std::string_view>& fields, uint64_t& n) {
+        while (lines.next(line)) {
+            n = lines.line_number();
+            if (format.trim_line) line = trim(line);
+            const std::string_view content = format.trim_line ? line : trim(line);
+            if (content.empty() || (format.comment != '\0' && content.front() == format.comment))
+                continue;
+            if (cut_off(lines, n)) return false;
+            split(line, format.sep, fields);
+            if (format.exact ? fields.size() != want : fields.size() < want) {
+                skip_field_count(n, want, fields.size(), format.what);
+                continue;
+            }
+            return true;
+        }
+        return false;
     }
 
     // Called by text readers at the end of input: reports a cut-off last line.

@@ -59,15 +59,9 @@ public:
 
     Item next() override {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            if (trim(line).empty()) continue;
-            if (cut_off(lines_, n)) break;
-            split(line, sep_, fields_);
-            if (fields_.size() != columns_.size()) {
-                skip_field_count(n, columns_.size(), fields_.size());
-                continue;
-            }
+        uint64_t n = 0;
+        const RowFormat row{.sep = sep_, .trim_line = false, .exact = true};
+        while (next_row(lines_, row, columns_.size(), line, fields_, n)) {
             double t = 0;
             if (!parse_double(fields_[t_], t) || !std::isfinite(t)) {
                 skip(n, "device_time_stamp is not a number");
@@ -205,15 +199,9 @@ public:
 
     Item next() override {
         std::string_view line;
-        while (lines_.next(line)) {
-            const uint64_t n = lines_.line_number();
-            if (trim(line).empty()) continue;
-            if (cut_off(lines_, n)) break;
-            split(line, '\t', fields_);
-            if (fields_.size() < min_fields_) {
-                skip_field_count(n, min_fields_, fields_.size());
-                continue;
-            }
+        uint64_t n = 0;
+        const RowFormat row{.sep = '\t', .trim_line = false};
+        while (next_row(lines_, row, min_fields_, line, fields_, n)) {
             double t = 0;
             if (!parse_double(fields_[t_], t) || !std::isfinite(t) || t < 0) {
                 skip(n, "time stamp is not a number: '" + printable(line) + "'");
