@@ -12,7 +12,7 @@
 #include "fovea/gaze/sample.hpp"
 #include "fovea/result.hpp"
 #include "fovea/ring.h"
-#include "zmq_publisher.hpp"
+#include "zmq_config.hpp"
 
 namespace fovea::daemon {
 

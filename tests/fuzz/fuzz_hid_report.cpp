@@ -7,8 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "hid/builders_for_fuzz.hpp"
 #include "hid/session.hpp"
+#include "hid/tracker_descriptors.hpp"
 
 using namespace fovea::drivers::hid;
 

@@ -2,8 +2,8 @@
 // Run: build-*/tests/hid/hid_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only
 #include <benchmark/benchmark.h>
 
-#include "builders_for_fuzz.hpp"
 #include "hid/session.hpp"
+#include "tracker_descriptors.hpp"
 
 using namespace fovea::drivers::hid;
 using fovea::test::DescriptorBuilder;

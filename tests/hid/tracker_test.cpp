@@ -7,10 +7,10 @@
 #include <array>
 #include <cmath>
 
-#include "builders_for_fuzz.hpp"
 #include "hid/hid_driver.hpp"
 #include "hid/session.hpp"
 #include "hid/tracker.hpp"
+#include "tracker_descriptors.hpp"
 
 using namespace fovea::drivers::hid;
 using fovea::test::DescriptorBuilder;
