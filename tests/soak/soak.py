@@ -10,7 +10,8 @@ invalid UTF-8, random JSON) while a prober asks for status every 100 ms.
 Checks: status p99 <= 100 ms; the readers that ran throughout and the ZeroMQ subscriber saw every
 published sample in order (index gaps are lost samples); RSS, fds and threads flat; after kill -9
 and `fovea repair` the recording lacks at most the last flush interval; a restarted fovead is
-seen by every surviving reader. The last line is `lost N` (samples lost; must be 0) and the exit
+seen by every surviving reader. fovead's RSS (with its anonymous, file and shared parts), fds and
+threads go to resources.csv once a second. The last line is `lost N` (samples lost; must be 0) and the exit
 status is 0 only when every check passed.
 """
 import argparse
@@ -31,6 +32,7 @@ import time
 SIM_RATE_HZ = 2000
 FLUSH_MS = 250
 INDEX = re.compile(rb"#(\d+)\s")
+RESOURCE_COLUMNS = ("t_s", "pid", "rss_kb", "anon_kb", "file_kb", "shmem_kb", "fds", "threads")
 
 
 def free_port():
@@ -110,7 +112,8 @@ class Soak:
         self.restarting, self.bursting = self.mp.Event(), self.mp.Event()
         self.status_stop = self.mp.Event()
         self.status_csv = self.out + "/status.csv"
-        self.resources = []  # (t, rss_kb, fds, threads)
+        self.resources_csv = self.out + "/resources.csv"
+        self.resources = []  # RESOURCE_COLUMNS, one row a second
         self.abuse = {"bursts": 0, "connections": 0, "refused": 0}
         self.t0 = time.monotonic()
 
@@ -142,19 +145,26 @@ class Soak:
 
     # ---- background activity ---------------------------------------------------------------
     def sampler(self):
-        while not self.stop.is_set():
-            pid = self.daemon.pid
-            try:
-                st = open("/proc/%d/status" % pid).read()
-                rss = int(re.search(r"VmRSS:\s+(\d+)", st).group(1))
-                thr = int(re.search(r"Threads:\s+(\d+)", st).group(1))
-                fds = len(os.listdir("/proc/%d/fd" % pid))
-                # Bursts hold 1000 fds; a restart has a new pid.
-                if not self.restarting.is_set() and not self.bursting.is_set():
-                    self.resources.append((time.monotonic(), rss, fds, thr))
-            except (OSError, AttributeError):
-                pass
-            time.sleep(1.0)
+        with open(self.resources_csv, "w") as csv:
+            csv.write(",".join(RESOURCE_COLUMNS) + "\n")
+            while not self.stop.is_set():
+                pid = self.daemon.pid
+                try:
+                    st = open("/proc/%d/status" % pid).read()
+                    kb = {k: int(re.search(r"%s:\s+(\d+)" % k, st).group(1))
+                          for k in ("VmRSS", "RssAnon", "RssFile", "RssShmem")}
+                    thr = int(re.search(r"Threads:\s+(\d+)", st).group(1))
+                    fds = len(os.listdir("/proc/%d/fd" % pid))
+                    # Bursts hold 1000 fds; a restart has a new pid.
+                    if not self.restarting.is_set() and not self.bursting.is_set():
+                        row = (time.monotonic() - self.t0, pid, kb["VmRSS"], kb["RssAnon"],
+                               kb["RssFile"], kb["RssShmem"], fds, thr)
+                        self.resources.append(row)
+                        csv.write("%.1f,%d,%d,%d,%d,%d,%d,%d\n" % row)
+                        csv.flush()
+                except (OSError, AttributeError):
+                    pass
+                time.sleep(1.0)
 
     def abuser(self):
         rng = random.Random(20)
@@ -375,13 +385,19 @@ class Soak:
         r = status.get("recording", {})
         return sum(int(r.get(k, 0)) for k in ("raw_samples", "gaze_samples", "latency_samples"))
 
+    def steady_resources(self):
+        """Second half of the samples of the fovead that ran the soak (not the one restarted
+        after the kill -9: a fresh process says nothing about growth)."""
+        pts = [r for r in self.resources if r[1] == self.resources[0][1]] if self.resources else []
+        return pts[len(pts) // 2:]
+
     def slope_per_hour(self, col):
-        pts = self.resources[len(self.resources) // 2:]
+        pts = self.steady_resources()
         if len(pts) < 5:
             return 0.0
         t0 = pts[0][0]
         xs = [(p[0] - t0) / 3600.0 for p in pts]
-        ys = [p[col] for p in pts]
+        ys = [p[RESOURCE_COLUMNS.index(col)] for p in pts]
         mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
         var = sum((x - mx) ** 2 for x in xs)
         return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / var if var else 0.0
@@ -464,17 +480,23 @@ class Soak:
             self.fail("recording lost %d samples (> one flush interval, %d)"
                       % (missing, allowance))
 
-        if len(self.resources) >= 5:
-            first, last = self.resources[len(self.resources) // 2], self.resources[-1]
-            print("fovead resources (2nd half): RSS %d -> %d kB (%.0f kB/h), fds %d -> %d, "
-                  "threads %d -> %d" % (first[1], last[1], self.slope_per_hour(1), first[2],
-                                        last[2], first[3], last[3]))
-            if self.slope_per_hour(1) > 64 * 1024 and self.a.minutes >= 10:
-                self.fail("RSS grows %.0f kB/h" % self.slope_per_hour(1))
-            if last[3] > first[3]:
-                self.fail("threads grew %d -> %d" % (first[3], last[3]))
-            if self.slope_per_hour(2) > 60:
-                self.fail("fds grow %.0f/h" % self.slope_per_hour(2))
+        pts = self.steady_resources()
+        if len(pts) >= 5:
+            first, last = pts[0], pts[-1]
+            col = RESOURCE_COLUMNS.index
+            print("fovead resources (2nd half, %s): RSS %d -> %d kB (%.0f kB/h; anon %d -> %d, "
+                  "%.0f kB/h; shmem %d -> %d), fds %d -> %d, threads %d -> %d"
+                  % (self.resources_csv, first[col("rss_kb")], last[col("rss_kb")],
+                     self.slope_per_hour("rss_kb"), first[col("anon_kb")], last[col("anon_kb")],
+                     self.slope_per_hour("anon_kb"), first[col("shmem_kb")],
+                     last[col("shmem_kb")], first[col("fds")], last[col("fds")],
+                     first[col("threads")], last[col("threads")]))
+            if self.slope_per_hour("rss_kb") > 64 * 1024 and self.a.minutes >= 10:
+                self.fail("RSS grows %.0f kB/h" % self.slope_per_hour("rss_kb"))
+            if last[col("threads")] > first[col("threads")]:
+                self.fail("threads grew %d -> %d" % (first[col("threads")], last[col("threads")]))
+            if self.slope_per_hour("fds") > 60:
+                self.fail("fds grow %.0f/h" % self.slope_per_hour("fds"))
         print("restart: fovead back %.2f s after kill -9" % (restarted - killed_at))
         return lost
 
