@@ -3,13 +3,12 @@
 #include "gazepoint/gazepoint_driver.hpp"
 
 #include "fovea/drivers/rate_meter.hpp"
-#include "fovea/drivers/reconnector.hpp"
+#include "fovea/drivers/reconnecting_driver.hpp"
 #include "fovea/drivers/support.hpp"
 
 #include <time.h>
 
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -34,32 +33,12 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-class GazepointDriver final : public Driver {
+class GazepointDriver final : public ReconnectingDriver {
 public:
     GazepointDriver(const GazepointConfig& config, uint32_t device_id)
-        : config_(config),
-          device_id_(device_id),
-          reconnect_(std::chrono::milliseconds(config.reconnect_min_ms),
-                     std::chrono::milliseconds(config.reconnect_max_ms)) {}
+        : ReconnectingDriver(device_id, config.reconnect_min_ms, config.reconnect_max_ms),
+          config_(config) {}
     ~GazepointDriver() override { close(); }
-
-    Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
-        io_ = &io;
-        sink_ = std::move(sink);
-        connect_timer_.emplace(io);
-        resolver_.emplace(io);
-        reconnect_.start(io, [this] { connect(); });  // connects now, retries on failure
-        return {};
-    }
-
-    void close() override {
-        reconnect_.stop();
-        if (connect_timer_) connect_timer_->cancel();
-        if (resolver_) resolver_->cancel();
-        drop_socket();
-        connect_timer_.reset();
-        resolver_.reset();
-    }
 
     DriverInfo describe() const override {
         std::lock_guard lock(mutex_);
@@ -74,13 +53,21 @@ public:
         return info;
     }
 
-    DriverStats stats() const override {
-        std::lock_guard lock(mutex_);
-        return stats_;
+private:
+    void on_open(boost::asio::io_context& io) override {
+        connect_timer_.emplace(io);
+        resolver_.emplace(io);
     }
 
-private:
-    void connect() {
+    void on_close() override {
+        if (connect_timer_) connect_timer_->cancel();
+        if (resolver_) resolver_->cancel();
+        drop_socket();
+        connect_timer_.reset();
+        resolver_.reset();
+    }
+
+    void connect() override {
         ++generation_;
         resolver_->async_resolve(
             config_.host, config_.port,
@@ -91,7 +78,7 @@ private:
                     fail("resolve " + config_.host + ": " + ec.message());
                     return;
                 }
-                socket_.emplace(*io_);
+                socket_.emplace(io());
                 connect_timer_->expires_after(kConnectTimeout);
                 connect_timer_->async_wait([this, token, gen](boost::system::error_code tec) {
                     if (tec || token.expired() || gen != generation_) return;
@@ -118,9 +105,7 @@ private:
         have_cnt_ = false;
         {
             std::lock_guard lock(mutex_);
-            if (ever_connected_) ++stats_.reconnects;
-            ever_connected_ = true;
-            stats_.connected = true;
+            count_connected_locked();
             stats_.last_error.clear();
             clock_ = {};
         }
@@ -212,9 +197,7 @@ private:
             bad_.warn(address() + ": dropped a record (" + why + ")");
             return;
         }
-        s->t_receive_ns = t_receive;
-        s->device_id = device_id_;
-        sink_(*s);
+        deliver(*s, t_receive);
     }
 
     // The record's device time into the rate meter (mutex held).
@@ -224,10 +207,7 @@ private:
     }
 
     void fail(const std::string& why) {
-        {
-            std::lock_guard lock(mutex_);
-            stats_.last_error = why;
-        }
+        set_error(why);
         connect_failures_.warn(why + "; retrying");
         drop_socket();
         reconnect_.retry_later();
@@ -242,31 +222,23 @@ private:
             socket_.reset();
         }
         stream_.reset();
-        std::lock_guard lock(mutex_);
-        if (stats_.connected) reconnect_.reset_delay();  // it was up: start again at the minimum
-        stats_.connected = false;
+        if (mark_disconnected()) reconnect_.reset_delay();  // it was up: start again at the minimum
     }
 
     std::string address() const { return config_.host + ":" + config_.port; }
 
     GazepointConfig config_;
-    uint32_t device_id_;
-    boost::asio::io_context* io_ = nullptr;
-    SampleSink sink_;
-    Reconnector reconnect_;  // retry timer, backoff, the token every handler holds
     std::optional<tcp::resolver> resolver_;
     std::optional<tcp::socket> socket_;
     std::optional<boost::asio::steady_timer> connect_timer_;
     std::array<char, 8192> buffer_{};
     ElementStream stream_;
     uint64_t generation_ = 0;
-    bool ever_connected_ = false;
     bool have_cnt_ = false;
     uint64_t last_cnt_ = 0;
     LogLimiter connect_failures_{logger()}, bad_{logger()};
 
-    mutable std::mutex mutex_;  // guards stats_, clock_, rate_ (any-thread readers)
-    DriverStats stats_;
+    // Guarded by mutex_ with the stats (any-thread readers):
     ServerClock clock_;
     RateMeter rate_;
 };

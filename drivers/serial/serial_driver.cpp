@@ -2,14 +2,13 @@
 // with exponential backoff when the port goes away (unplugged, pty closed).
 #include "serial/serial_driver.hpp"
 
-#include "fovea/drivers/reconnector.hpp"
+#include "fovea/drivers/reconnecting_driver.hpp"
 #include "fovea/drivers/support.hpp"
 
 #include <sys/ioctl.h>
 #include <time.h>
 
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <mutex>
@@ -33,29 +32,12 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-class SerialDriver final : public Driver {
+class SerialDriver final : public ReconnectingDriver {
 public:
     SerialDriver(const SerialConfig& config, uint32_t device_id)
-        : config_(config),
-          device_id_(device_id),
-          reconnect_(std::chrono::milliseconds(config.reconnect_min_ms),
-                     std::chrono::milliseconds(config.reconnect_max_ms)) {}
+        : ReconnectingDriver(device_id, config.reconnect_min_ms, config.reconnect_max_ms),
+          config_(config) {}
     ~SerialDriver() override { close(); }
-
-    Result<void> open(boost::asio::io_context& io, SampleSink sink) override {
-        io_ = &io;
-        sink_ = std::move(sink);
-        hello_timer_.emplace(io);
-        reconnect_.start(io, [this] { connect(); });  // connects now, retries on failure
-        return {};
-    }
-
-    void close() override {
-        reconnect_.stop();
-        if (hello_timer_) hello_timer_->cancel();
-        drop_port();
-        hello_timer_.reset();
-    }
 
     DriverInfo describe() const override {
         std::lock_guard lock(mutex_);
@@ -72,15 +54,18 @@ public:
         return info;
     }
 
-    DriverStats stats() const override {
-        std::lock_guard lock(mutex_);
-        return stats_;
+private:
+    void on_open(boost::asio::io_context& io) override { hello_timer_.emplace(io); }
+
+    void on_close() override {
+        if (hello_timer_) hello_timer_->cancel();
+        drop_port();
+        hello_timer_.reset();
     }
 
-private:
-    void connect() {
+    void connect() override {
         boost::system::error_code ec;
-        port_.emplace(*io_);
+        port_.emplace(io());
         port_->open(config_.port, ec);
         if (!ec) {
             // Keep a second process (another daemon, a terminal program) off the port.
@@ -107,9 +92,7 @@ private:
         sequence_.reset();
         {
             std::lock_guard lock(mutex_);
-            if (ever_connected_) ++stats_.reconnects;
-            ever_connected_ = true;
-            stats_.connected = true;
+            count_connected_locked();
             hello_.reset();
         }
         logger()->info("{} open, {} baud", config_.port, config_.baud);
@@ -226,11 +209,7 @@ private:
             // Unknown frame types are newer protocol features: skipped, not errors.
         }
         if (!why.empty()) bad_frames_.warn(config_.port + ": dropped a frame (" + why + ")");
-        if (sample) {
-            sample->t_receive_ns = t_receive;
-            sample->device_id = device_id_;
-            sink_(*sample);
-        }
+        if (sample) { deliver(*sample, t_receive); }
     }
 
     void lost_port(const std::string& why) {
@@ -248,20 +227,10 @@ private:
             port_.reset();
         }
         decoder_.reset();
-        std::lock_guard lock(mutex_);
-        stats_.connected = false;
-    }
-
-    void set_error(std::string e) {
-        std::lock_guard lock(mutex_);
-        stats_.last_error = std::move(e);
+        mark_disconnected();
     }
 
     SerialConfig config_;
-    uint32_t device_id_;
-    boost::asio::io_context* io_ = nullptr;
-    SampleSink sink_;
-    Reconnector reconnect_;  // retry timer, backoff, the token every handler holds
     std::optional<boost::asio::serial_port> port_;
     std::optional<boost::asio::steady_timer> hello_timer_;
     std::array<uint8_t, 4096> buffer_{};
@@ -269,12 +238,9 @@ private:
     SequenceTracker sequence_;
     uint16_t host_seq_ = 0;
     uint64_t generation_ = 0;  // connection number
-    bool ever_connected_ = false;
     LogLimiter open_failures_{logger()}, bad_frames_{logger()};
 
-    mutable std::mutex mutex_;  // guards stats_ and hello_ (stats()/describe() are any-thread)
-    DriverStats stats_;
-    std::optional<Hello> hello_;
+    std::optional<Hello> hello_;  // guarded by mutex_ (describe() is any-thread)
 };
 
 }  // namespace
