@@ -11,8 +11,8 @@ Checks: status p99 <= 100 ms; the readers that ran throughout and the ZeroMQ sub
 published sample in order (index gaps are lost samples); RSS, fds and threads flat; after kill -9
 and `fovea repair` the recording lacks at most the last flush interval; a restarted fovead is
 seen by every surviving reader. fovead's RSS (with its anonymous, file and shared parts), fds and
-threads go to resources.csv once a second. The last line is `lost N` (samples lost; must be 0) and the exit
-status is 0 only when every check passed.
+threads go to resources.csv once a second. The last line is `lost N` (samples lost; must be 0)
+and the exit status is 0 only when every check passed.
 """
 import argparse
 import json
