@@ -18,8 +18,9 @@
 
 namespace fovea::drivers {
 
-// Thread rule: open(), close(), connect() and every protected method but the *_locked ones run
-// on the loop thread; stats() and a derived describe() run on any thread and take mutex_.
+// Thread rule: open(), close(), connect() and every protected method run on the loop thread
+// (the *_locked ones with mutex_ held); stats() and a derived describe() run on any thread and
+// take mutex_.
 class ReconnectingDriver : public Driver {
 public:
     ReconnectingDriver(uint32_t device_id, int reconnect_min_ms, int reconnect_max_ms)
