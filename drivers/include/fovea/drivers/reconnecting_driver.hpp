@@ -86,7 +86,7 @@ protected:
 
     boost::asio::io_context& io() { return *io_; }
 
-    Reconnector reconnect_;  // retry timer, backoff, the token every handler holds
+    Reconnector reconnect_;     // retry timer, backoff, the token every handler holds
     mutable std::mutex mutex_;  // guards stats_ and what the derived driver says it guards
     DriverStats stats_;
 
