@@ -1,5 +1,5 @@
 // The one list of post passes (run after shading, in FoveatorConfig::post_chain order): add one
-// line per pass; each factory is defined in its own sdk/src/vk/<name>*.cpp.
+// line per pass; each factory is defined in its own sdk/src/vk/post/<name>*.cpp.
 #include "post_pass.hpp"
 
 // The block-scope factory declarations are intended.

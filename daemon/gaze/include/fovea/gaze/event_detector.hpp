@@ -45,7 +45,7 @@ namespace fovea::gaze {
 
 // One parameter set for every recording; the reasoning for each value is in README.md.
 struct DetectorParams {
-    double velocity_half_window_s = 0.004;  // SG derivative over +-6 ms
+    double velocity_half_window_s = 0.004;  // SG derivative over +-4 ms
     double initial_peak_dps = 100.0;        // N&H starting peak threshold
     // The thresholds come from the mean and SD of the velocities the detector leaves as
     // fixation/pursuit, taken below this fixed bound (N&H's starting peak), not iterated down to
