@@ -3,10 +3,10 @@
 #   tools/dev.sh demo   install what is missing, build, run fovead on its simulated tracker and
 #                       the SDK demo (live gaze + latency, then foveated frames on lavapipe)
 #   tools/dev.sh test   install what is missing, build, run the whole test suite but label "slow":
-#                       ctest, OpenXR through Monado, then the labelled suite under ASan+UBSan,
-#                       the ring/daemon labels under TSan (each tree builds what its labels select
-#                       and fails on a test not built), then every fuzz target for 30 s from
-#                       seed 1; prints each step's wall time
+#                       ctest, the 2-minute soak alone, OpenXR through Monado, then the labelled
+#                       suite under ASan+UBSan, the ring/daemon labels under TSan (each tree
+#                       builds what its labels select and fails on a test not built), then every
+#                       fuzz target for 30 s from seed 1; prints each step's wall time
 #   tools/dev.sh asan|tsan|fuzz   just that step (what CI runs for it)
 # Build trees live in build/ (main, asan, tsan, fuzz). Set FOVEA_JOBS to change parallelism.
 set -euo pipefail
@@ -40,13 +40,14 @@ build_targets() {  # dir, targets...
 
 # What each sanitizer tree runs, as ctest -L / -LE regular expressions over a test's labels (one
 # comma-joined label per test, e.g. "integration,daemon"). ASan+UBSan: the whole labelled suite
-# except the slow runs (their CI variants are labelled without "slow") and the packaging scripts
-# (they install and package the tree; no code of ours runs in them). TSan: the code that runs
-# threads against each other: ring, daemon (calibration included), client.
+# except the slow runs (their CI variants are labelled without "slow"), the packaging scripts
+# (they install and package the tree; no code of ours runs in them) and the soak (it times a
+# release fovead against fixed budgets; it runs once, alone, in build/main). TSan: the code that
+# runs threads against each other: ring, daemon (calibration included), client.
 asan_labels='.'
-asan_exclude='slow|packaging'
+asan_exclude='slow|packaging|soak'
 tsan_labels='ring|daemon'
-tsan_exclude='slow|packaging'
+tsan_exclude='slow|packaging|soak'
 
 # Test targets whose labels match regex $2 and not $3, from the manifest CMake writes into the
 # build tree $1 (tests/CMakeLists.txt: "target TAB labels TAB executable" per gtest discovery).
@@ -182,9 +183,16 @@ run_main_suite() {
     configure_build build/main "${main_flags[@]}"
     step "configure again: no build command changes (so a later demo rebuilds nothing)"
     require_same_commands_after_configure build/main "${main_flags[@]}"
-    step "ctest: whole suite but 'slow'"
+    step "ctest: whole suite but 'slow' and the soak"
     require_built build/main . ''
-    (cd build/main && ctest --output-on-failure -j "$jobs" --timeout 900 -LE slow)
+    (cd build/main && ctest --output-on-failure -j "$jobs" --timeout 900 -LE 'slow|soak')
+}
+
+# The soak (tests/soak) holds fovead to latency and loss budgets: it runs alone, not beside -j
+# tests that would take its 2 cores.
+run_soak() {
+    step "soak: 2 minutes"
+    (cd build/main && ctest --output-on-failure --no-tests=error -L soak)
 }
 
 # Every tree keeps line tables only (-g1): file:line and function names in backtraces and
@@ -221,6 +229,7 @@ run_fuzz_smoke() {
 
 run_tests() {
     run_main_suite
+    run_soak
     run_openxr_checks
     run_asan
     run_tsan
