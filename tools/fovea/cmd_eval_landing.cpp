@@ -7,9 +7,13 @@
 // correction and radius scale (constants fitted on labels) leaving one lund2013 subject out;
 // `--cv dataset` leaving one dataset out (fitted on human-labelled datasets only) and scores
 // each dataset with the constants fitted without it: the honest figure for unseen data.
-// An "oracle" row scales the displacement so far by the median landed/displacement ratio of all
-// saccades > 5 deg at that exact fraction: told the fraction no causal predictor knows, and fitted
-// in-sample, it shows how much of the error the first part of a saccade cannot resolve.
+// An "oracle" row scales the newest sample's distance from the onset by the median
+// landed/distance ratio of the group's saccades > 5 deg at that nominal fraction: told the
+// fraction no causal predictor knows, and fitted in-sample, it shows how much of the error the
+// first part of a saccade cannot resolve from its displacement alone. It is not a bound where the
+// profile's shape scatters (low rates put the newest sample anywhere within one interval of the
+// nominal fraction; EyeLink's parser onsets lead the movement by several samples): there the
+// predictor's speed information beats it.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -59,13 +63,15 @@ struct Saccade {
     double amplitude = 0.0, land_x = 0.0, land_y = 0.0;
     gaze::LandingObservation at[3];
     double naive[3] = {};
+    double distance[3] = {};  // newest sample from the onset (the oracle's displacement)
     std::vector<gaze::LateCorrectionRow> fit_rows;
 };
 
 constexpr int kFitFromPct = 15, kFitToPct = 95, kFitStepPct = 5;
 
-// Saccades > 5 deg: landing = onset + direction x displacement x (median landed/displacement
-// ratio at this fraction, over all of them), errors per fraction.
+// Saccades > 5 deg: landing = onset + direction x distance x (median landed/distance ratio at
+// this fraction, over all of them), errors per fraction. The distance is the newest sample's, not
+// the predictor's line fit, so the oracle does not move with the predictor.
 std::array<std::vector<double>, 3> oracle_errors(const std::vector<const Saccade*>& saccades) {
     std::array<std::vector<double>, 3> errors;
     for (int q = 0; q < 3; ++q) {
@@ -73,20 +79,20 @@ std::array<std::vector<double>, 3> oracle_errors(const std::vector<const Saccade
         for (const Saccade* p : saccades) {
             const Saccade& s = *p;
             const gaze::LandingObservation& o = s.at[q];
-            if (s.amplitude <= 5.0 || !o.valid || !(o.displacement_deg > 0.1)) continue;
+            if (s.amplitude <= 5.0 || !o.valid || !(s.distance[q] > 0.1)) continue;
             ratio.push_back(((s.land_x - o.x0_deg) * o.ux + (s.land_y - o.y0_deg) * o.uy) /
-                            o.displacement_deg);
+                            s.distance[q]);
         }
         const double k = median(ratio);
         for (const Saccade* p : saccades) {
             const Saccade& s = *p;
             const gaze::LandingObservation& o = s.at[q];
             if (s.amplitude <= 5.0) continue;
-            if (!o.valid || !(o.displacement_deg > 0.1) || !std::isfinite(k)) {
+            if (!o.valid || !(s.distance[q] > 0.1) || !std::isfinite(k)) {
                 errors[q].push_back(s.naive[q]);
                 continue;
             }
-            const double along = o.displacement_deg * k;
+            const double along = s.distance[q] * k;
             errors[q].push_back(
                 std::hypot(o.x0_deg + along * o.ux - s.land_x, o.y0_deg + along * o.uy - s.land_y));
         }
@@ -205,6 +211,7 @@ void collect(const eval::Dataset& d, size_t index, bool fit_rows,
                 for (int q = 0; q < 3; ++q) {
                     s.at[q] = observe_at(kFractions[q]);
                     s.naive[q] = std::hypot(x.back() - s.land_x, y.back() - s.land_y);
+                    s.distance[q] = std::hypot(x.back() - x.front(), y.back() - y.front());
                 }
                 if (fit_rows) {
                     for (int pct = kFitFromPct; pct <= kFitToPct; pct += kFitStepPct) {
