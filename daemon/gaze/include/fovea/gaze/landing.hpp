@@ -14,10 +14,9 @@
 // run high while the eye is still accelerating; the base prediction is their geometric mean.
 // Late in flight (predicted elapsed fraction >= ~0.65) the base prediction overshoots when it
 // still expects much distance to go, and undershoots while the eye is still fast: a 3-constant
-// log-linear late correction (LateCorrection) fitted on lund2013 across recordings fixes most
-// of that (`fovea eval-landing --cv` reproduces the fit and its leave-one-subject-out score).
-// Measured on the lund2013 labels (../shared/data) with `fovea eval-landing`; the numbers
-// behind each constant are in the comments below.
+// log-linear late correction (LateCorrection), fitted on labelled saccades, fixes most of that.
+// `fovea eval-landing --cv dataset` refits it without each dataset; the measurements behind the
+// constants below are in daemon/eval/README.md ("Landing").
 #pragma once
 
 #include <array>
@@ -37,52 +36,40 @@ struct LandingParams {
     double profile_b = 3.0;
     // Estimates 2 and 3: remaining distance = factor x speed x remaining time. 1/2 is a linear
     // slow-down (minimum jerk: 0.53 at mid-flight); early-peaked profiles with long tails, as
-    // the labels and the simulated tracker have, give ~0.4. With estimate 3 in the mean and
-    // before the late correction, lund2013 > 5 deg median error at 50 / 75 %: 0.40 -> 1.62 /
-    // 1.07 deg, 0.45 -> 1.59 / 1.20, 0.50 -> 1.6-1.7 / 1.3-1.4 (the 50 % point barely moves;
-    // the 75 % one does).
+    // the labels have, want less. Trades the 50 % point against the 75 % one.
     double deceleration_factor = 0.40;
-    int speed_fit_samples = 4;  // current speed and position: line through the newest samples
-    // Estimate 3. r = Vp * D / A: 15/8 for a minimum-jerk profile; the lund2013 labels' median
-    // is 1.80 (IQR 1.60-2.05), the early-peaked profiles of the labels are close to it.
+    // Current speed and position: a line through the newest samples, so that one noisy sample
+    // sets neither. A 6 ms time span instead did not generalize better (daemon/eval/README.md).
+    int speed_fit_samples = 4;
+    // Estimate 3. r = Vp * D / A: 15/8 for a minimum-jerk profile, near the labels' median.
     double peak_to_mean_speed = 1.875;
     // The peak counts as passed when the current speed is below this fraction of the highest
-    // speed seen (4-sample line fits; at 500 Hz noise alone moves the speed by ~5-10 %).
+    // speed seen: above the ~5-10 % that noise alone moves a 4-sample line fit at 500 Hz.
     double peak_passed_ratio = 0.85;
     double max_amplitude_deg = 60.0;
     // Uncertainty radius = scale x A x f^-power (+ position noise, at most max_amplitude_deg),
     // f = t / D(A) the predictor's own elapsed fraction. Early estimates run far low (the eye
-    // has covered little and is still accelerating), so the error shrinks steeply with f: on
-    // the lund2013 labels the 68th percentile of error / A falls from 2.25 at f = 0.15 to 0.64
-    // at 0.35 and 0.09 at 0.95. The two constants are fitted there for ~2/3 coverage at 25, 50
-    // and 75 % of the duration (> 5 deg, with the late correction: 62 / 65 / 70 %). `fovea
-    // eval-landing --cv` refits the scale (the 2/3 quantile) on all data (0.042) and without
-    // each subject: the held-out subjects' coverage is 63 / 65 / 70 %. The estimates'
-    // disagreement plus a share of the distance still to go, used before, covered 5 / 45 / 57 %.
+    // has covered little and is still accelerating), so the error shrinks steeply with f. The
+    // scale is fitted (the 2/3 quantile, `eval-landing --cv`) for ~2/3 coverage at 25, 50 and
+    // 75 % of the duration.
     double uncertainty_scale = 0.04;
     double uncertainty_power = 3.0;
     double position_noise_deg = 0.1;
     // Late correction: log(A / A_base) = bias + displacement x d / A_base + speed x v / Vp
     // (d covered distance, v current and Vp highest speed so far), blended in linearly as the
     // base prediction's elapsed fraction goes from late_from to late_full (fitted where it is
-    // >= 0.65; the ramp avoids a jump there). Fitted by least absolute log error on the lund2013
-    // labels' saccades > 2 deg at 15-95 % of their durations: `fovea eval-landing --cv`
-    // reproduces the constants and scores each of the 19 subjects with constants refitted
-    // without it. A_base overshoots when it still expects much distance this late (d / A_base
-    // small: up to e^-1.36 ~ 1/4 pulled back) and undershoots while the eye is still fast.
+    // >= 0.65; the ramp avoids a jump there). Least absolute log error over labelled saccades
+    // > 2 deg at 15-95 % of their durations (fit_late_correction; `fovea eval-landing --cv`
+    // reproduces the constants). A_base overshoots when it still expects much distance this
+    // late (d / A_base small: up to ~1/4 pulled back) and undershoots while the eye is fast.
     double late_bias = -1.359;
     double late_displacement = 1.371;
     double late_speed = 0.259;
     double late_from = 0.60;
     double late_full = 0.70;
-    // Pushes beyond A_base are capped (log units). The labels reward pushes up to ~e^0.26
-    // (the coders include slow saccade ends), abruptly ending profiles punish them: minimum
-    // jerk at 95 % of its duration is overshot by ~8 % of the amplitude uncapped, the
-    // simulated tracker's > 5 deg median error at 75 % is 0.39 deg uncapped, 0.37 at 0.03,
-    // 0.32 with no push. lund2013 > 5 / > 2 deg at 75 % (leave-one-subject-out): uncapped
-    // 0.84 / 0.89, 0.03 -> 0.90 / 0.93, no push 0.94 / 0.97; without the correction 1.07 / 1.10;
-    // current position 1.31 / 0.92. Half the duration is unchanged (1.62-1.64). The radius
-    // above still holds ~2/3 of the corrected errors (> 5 deg: 62 / 65 / 70 %).
+    // Pushes beyond A_base are capped (log units): the labels reward pushes (the coders include
+    // slow saccade ends), abruptly ending profiles punish them (minimum jerk at 95 % of its
+    // duration is overshot by ~8 % of the amplitude uncapped).
     double late_max_log_push = 0.03;
 };
 
