@@ -43,9 +43,10 @@ TEST(EvalLandingCli, Lund2013PredictorBeatsCurrentPositionAndReportsTheOracle) {
 
 // --cv dataset on all of ../shared/data: per dataset and sampling rate, the late correction and
 // radius scale fitted without the dataset scored on it. Floors: at 50 % the held-out predictor
-// beats the current position wherever there are >= 50 saccades > 5 deg (measured 1.13-2.80 vs
-// 2.71-4.63 deg); lund2013 500 Hz at 75 % stays under 1.1 deg (measured 0.97; the median of
-// ~400 saccades moves by ~0.05 deg between resamples).
+// beats the current position wherever there are >= 50 saccades > 5 deg, and each group's
+// held-out median at 50 / 75 % stays under its measured figure (daemon/eval/README.md,
+// "Landing") plus the resampling spread of a median: ~0.05 deg for lund2013 500 Hz's ~400
+// saccades, ~0.10 for the groups of 58-102.
 TEST(EvalLandingCli, HeldOutByDatasetPerRateBeatsCurrentPositionAtHalfTheSaccade) {
     const std::string data = FOVEA_SHARED_DATA_DIR;
     if (!std::filesystem::is_directory(kDir)) GTEST_SKIP() << "no labelled data at " << kDir;
@@ -72,6 +73,18 @@ TEST(EvalLandingCli, HeldOutByDatasetPerRateBeatsCurrentPositionAtHalfTheSaccade
         }
     }
     EXPECT_GE(groups, 4);  // eyelink 500/1000, gazecom 250, lund2013 200/500
-    EXPECT_LT(j["datasets"]["lund2013"]["rates"]["500"]["gt5"]["75"]["held_out"].get<double>(),
-              1.1);
+    struct Floor {
+        const char *dataset, *rate;
+        double at50, at75;  // measured held out + margin
+    };
+    for (const Floor& f : {Floor{"lund2013", "500", 1.64 + 0.05, 0.97 + 0.05},
+                           Floor{"lund2013", "200", 2.80 + 0.10, 1.55 + 0.10},
+                           Floor{"gazecom", "250", 1.13 + 0.10, 1.36 + 0.10},
+                           Floor{"eyelink", "500", 1.44 + 0.10, 1.81 + 0.10},
+                           Floor{"eyelink", "1000", 2.70 + 0.10, 1.07 + 0.10}}) {
+        const auto& big = j["datasets"][f.dataset]["rates"][f.rate]["gt5"];
+        ASSERT_TRUE(big.is_object()) << f.dataset << " " << f.rate << " Hz";
+        EXPECT_LT(big["50"]["held_out"].get<double>(), f.at50) << f.dataset << " " << f.rate;
+        EXPECT_LT(big["75"]["held_out"].get<double>(), f.at75) << f.dataset << " " << f.rate;
+    }
 }
