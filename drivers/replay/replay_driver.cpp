@@ -33,11 +33,14 @@ std::shared_ptr<spdlog::logger> logger() {
     return log;
 }
 
-import::Options import_options(const ReplayConfig& c){import::Options o;
-o.format = c.format;
-o.min_confidence = c.min_confidence;
-return o;
-}  // namespace
+// Spelled fovea::import: clang-format 14 takes a line that begins with `import` for a C++20
+// module import and leaves it unformatted.
+fovea::import::Options import_options(const ReplayConfig& c) {
+    fovea::import::Options o;
+    o.format = c.format;
+    o.min_confidence = c.min_confidence;
+    return o;
+}
 
 class ReplayDriver final : public Driver {
 public:
@@ -246,7 +249,7 @@ private:
     std::string last_error_;
 };
 
-}  // namespace fovea::drivers::replay
+}  // namespace
 
 Result<ReplayConfig> parse_config(const toml::table& t) {
     ReplayConfig c;
