@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "fovea/half.hpp"
 #include "fovea/vk/foveator.hpp"
 #include "fovea/vk/projection.hpp"
 #include "scene_frag.h"
@@ -257,16 +258,11 @@ double foveal_psnr(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
     for (uint32_t y = 0; y < e.height; ++y)
         for (uint32_t x = 0; x < e.width; ++x) {
             if (std::hypot(x + 0.5f - gx, y + 0.5f - gy) > radius_px) continue;
-            uint16_t ha, hb;
-            std::memcpy(&ha, &a[(size_t(y) * e.width + x) * 8], 2);
-            std::memcpy(&hb, &b[(size_t(y) * e.width + x) * 8], 2);
-            const auto to8 = [](uint16_t h) {  // halves of 0..1: exponent/mantissa to float
-                const int ex = (h >> 10) & 31, m = h & 1023;
-                const float f =
-                    ex ? std::ldexp(float(m | 1024), ex - 25) : std::ldexp(float(m), -24);
+            const auto to8 = [&](const std::vector<uint8_t>& img) {
+                const float f = fovea::half_from_bytes(&img[(size_t(y) * e.width + x) * 8]);
                 return std::round(std::fmin(f, 1.f) * 255.f);
             };
-            const double d = to8(ha) - to8(hb);
+            const double d = to8(a) - to8(b);
             se += d * d;
             ++n;
         }
