@@ -53,4 +53,11 @@ function(gltf_viewer_add_host target)
         PUBLIC fovea::vk fovea::client
         PRIVATE TinyGLTF::TinyGLTF PkgConfig::GLTF_VIEWER_TOML PkgConfig::GLTF_VIEWER_STB)
     target_compile_features(${target} PUBLIC cxx_std_20)
+    if(COMMAND fovea_target_defaults)  # in-tree: the project's warnings (and -Werror in CI)
+        fovea_target_defaults(${target})
+        # Vulkan structs are initialised as `VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};`, as in
+        # the SDK (sdk/vk.cmake).
+        target_compile_options(${target} PRIVATE
+            $<$<CXX_COMPILER_ID:GNU,Clang>:-Wno-missing-field-initializers>)
+    endif()
 endfunction()
