@@ -29,14 +29,9 @@ struct TestDevice {
     std::string fail;                // validation requested and unavailable
 };
 
-// Warnings and errors go to stderr (validation messages included).
-inline TestDevice make_test_device(bool prefer_software = true) {
-    DeviceOptions o;
-    o.validation = kValidation;
-    o.prefer_software = prefer_software;
-    o.log = [](LogLevel level, const std::string& msg) {
-        if (level >= LogLevel::kWarning) std::fprintf(stderr, "[vk] %s\n", msg.c_str());
-    };
+// A device from `o` as given (a test with its own log or options; set o.validation from
+// kValidation), sorted into device / skip / fail.
+inline TestDevice make_test_device(const DeviceOptions& o) {
     TestDevice t;
     auto d = Device::create_headless(o);
     if (d) {
@@ -48,6 +43,17 @@ inline TestDevice make_test_device(bool prefer_software = true) {
         t.skip = "no Vulkan device (install mesa-vulkan-drivers): " + d.error().message;
     }
     return t;
+}
+
+// Validation as the build says; warnings and errors go to stderr (validation messages included).
+inline TestDevice make_test_device(bool prefer_software = true) {
+    DeviceOptions o;
+    o.validation = kValidation;
+    o.prefer_software = prefer_software;
+    o.log = [](LogLevel level, const std::string& msg) {
+        if (level >= LogLevel::kWarning) std::fprintf(stderr, "[vk] %s\n", msg.c_str());
+    };
+    return make_test_device(o);
 }
 
 }  // namespace fovea::vk::test

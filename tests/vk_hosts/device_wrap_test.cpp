@@ -28,15 +28,16 @@ TEST(DeviceRequirements, NameVersionQueueFeaturesAndFormats) {
 
 TEST(DeviceWrap, AcceptsADeviceThatMeetsTheRequirements) {
     HostVulkan host(VK_API_VERSION_1_1, HostVulkan::required_features());
-    if (!host.ok()) GTEST_SKIP() << "no Vulkan device";
+    FOVEA_ASSERT_HOST_VULKAN(host);
     auto d = Device::wrap(host.external());
     ASSERT_TRUE(d) << d.error().message;
     EXPECT_EQ(d->device(), host.device());
+    FOVEA_EXPECT_NO_HOST_VALIDATION_ERRORS(host);
 }
 
 TEST(DeviceWrap, NamesEveryUnmetRequirement) {
     HostVulkan host(VK_API_VERSION_1_0, VkPhysicalDeviceFeatures{});
-    if (!host.ok()) GTEST_SKIP() << "no Vulkan device";
+    FOVEA_ASSERT_HOST_VULKAN(host);
     ExternalDevice e = host.external();
     auto d = Device::wrap(e);
     ASSERT_FALSE(d);
@@ -55,7 +56,7 @@ TEST(DeviceWrap, NamesEveryUnmetRequirement) {
 // lock is released again (never held while the module waits for the GPU).
 TEST(DeviceWrap, ModuleSubmitsUnderTheHostsQueueLock) {
     HostVulkan host(VK_API_VERSION_1_1, HostVulkan::required_features());
-    if (!host.ok()) GTEST_SKIP() << "no Vulkan device";
+    FOVEA_ASSERT_HOST_VULKAN(host);
     std::mutex queue_mutex;
     std::atomic<int> locks{0}, unlocks{0};
     ExternalDevice e = host.external();
@@ -88,6 +89,7 @@ TEST(DeviceWrap, ModuleSubmitsUnderTheHostsQueueLock) {
     }
     EXPECT_GT(locks, 1);  // image set-up, the frame, the destructor's wait
     EXPECT_EQ(locks, unlocks);
+    FOVEA_EXPECT_NO_HOST_VALIDATION_ERRORS(host);
 }
 
 }  // namespace

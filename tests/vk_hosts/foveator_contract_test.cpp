@@ -1,5 +1,5 @@
 // The Foveator's contract with a host beyond the shading itself: gaze through blinks, views()
-// the host forgot. Small frames on lavapipe, validation on.
+// the host forgot. Small frames on lavapipe, validation as FOVEA_VK_VALIDATION says.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -32,22 +32,22 @@ FoveatorConfig small_config(const char* method) {
     return c;
 }
 
-// A device of its own whose log the test reads.
+// A device of its own whose log the test reads; validation as the build says, and the same
+// skip / fail rules as test::make_test_device.
 struct LoggedDevice {
     std::mutex mutex;
     std::vector<std::string> warnings;
-    std::unique_ptr<Device> device;
+    test::TestDevice test_device;
 
     LoggedDevice() {
         DeviceOptions o;
-        o.validation = true;
+        o.validation = test::kValidation;
         o.log = [this](LogLevel level, const std::string& m) {
             if (level < LogLevel::kWarning) return;
             std::lock_guard<std::mutex> lock(mutex);
             warnings.push_back(m);
         };
-        auto d = Device::create_headless(o);
-        if (d) device = std::make_unique<Device>(std::move(*d));
+        test_device = test::make_test_device(o);
     }
     size_t count(const std::string& needle) {
         std::lock_guard<std::mutex> lock(mutex);
@@ -216,8 +216,8 @@ vec3 fovea_shade(FoveaGSample g, FoveaFootprint fp) { return host.tint.rgb + 0.0
 // A host that never calls views() gets one warning per method, naming the call it skipped.
 TEST(FoveatorViews, RecordWithoutViewsWarnsOnce) {
     LoggedDevice logged;
-    if (!logged.device) GTEST_SKIP() << "no Vulkan device";
-    auto f = Foveator::create(*logged.device, small_config("layers"));
+    FOVEA_ASSERT_TEST_DEVICE(logged.test_device);
+    auto f = Foveator::create(*logged.test_device.device, small_config("layers"));
     ASSERT_TRUE(f) << f.error().message;
     FrameInputs in;
     f->render_blocking(0, in, {});
@@ -227,13 +227,13 @@ TEST(FoveatorViews, RecordWithoutViewsWarnsOnce) {
     ASSERT_TRUE(f->set_method("full"));
     f->render_blocking(2, in, {});  // "full" renders no views: nothing to warn about
     EXPECT_EQ(logged.count("without views("), 1u);
-    EXPECT_EQ(logged.device->validation_errors(), 0u);
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*logged.test_device.device, 0u);
 }
 
 TEST(FoveatorViews, HostThatAsksForViewsIsNotWarned) {
     LoggedDevice logged;
-    if (!logged.device) GTEST_SKIP() << "no Vulkan device";
-    auto f = Foveator::create(*logged.device, small_config("layers"));
+    FOVEA_ASSERT_TEST_DEVICE(logged.test_device);
+    auto f = Foveator::create(*logged.test_device.device, small_config("layers"));
     ASSERT_TRUE(f) << f.error().message;
     FrameInputs in;
     for (uint64_t i = 0; i < 2; ++i) {
@@ -241,6 +241,7 @@ TEST(FoveatorViews, HostThatAsksForViewsIsNotWarned) {
         f->render_blocking(i, in, {});
     }
     EXPECT_EQ(logged.count("without views("), 0u);
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS_SINCE(*logged.test_device.device, 0u);
 }
 
 }  // namespace
