@@ -4,12 +4,13 @@
 Devices: the simulated tracker at 2 kHz, the serial simulator on a pty (corrupt bytes, reopened
 every 20 s), a Gazepoint server restarted every 15 s and, where ../shared/data holds the Pupil
 Capture recording, `fovea simulate pupil` replaying it (garbage and truncated messages, a restart
-every 8 s, and a new simulator at the end of the recording). Around them: 8 ring readers
-(`fovea watch`; 4 run throughout, 4 are kill -9ed and restarted one per second), a ZeroMQ
-subscriber, a recording, and an abusive control-socket client (bursts of 1000 connections with oversize requests, invalid UTF-8 and random JSON: nested
-structures, wrong types, every command but shutdown and record.stop with garbage arguments; slow
-writers sending a request a byte every 200 ms; requests at and over the size limit; random
-requests whose answers are checked) while a prober asks for status every 100 ms.
+every 8 s, and a new simulator at the end of the recording). Around them: 8 ring readers (`fovea
+watch`; 4 run throughout, 4 are kill -9ed and restarted one per second), a ZeroMQ subscriber, a
+recording, and an abusive control-socket client (bursts of 1000 connections with oversize requests,
+invalid UTF-8 and random JSON: nested structures, wrong types, every command but shutdown and
+record.stop with garbage arguments; slow writers sending a request a byte every 200 ms; requests at
+and over the size limit; random requests whose answers are checked) while a prober asks for status
+every 100 ms.
 
 Checks, per sample (ring index) where they can be: status p99 <= 100 ms; every ring reader's
 output steps by exactly one index within a ring generation (a step back is a failure; only fovea
