@@ -1,8 +1,8 @@
 // The pupil driver. ZeroMQ sockets are not Asio objects, so one worker thread owns them (as
 // DESIGN.md §4 does for hidapi and libusb) and posts samples into the loop: it asks Pupil
 // Remote for the bus port and version, syncs the clock by "t" round trips (again every
-// sync_interval_s), subscribes to the topics, decodes each datum (fovea::import's Pupil
-// decoder, msgpack-cxx) and maps Pupil time to host time with the measured offset. Capture
+// sync_interval_s), subscribes to the topics, decodes each message (pupil_bus.hpp: fovea::import's
+// Pupil decoder, msgpack-cxx) and maps Pupil time to host time with the measured offset. Capture
 // closing or restarting shows as a silent bus and an unanswered Remote: the worker drops both
 // sockets and reconnects with backoff, counting it.
 #include "pupil/pupil_driver.hpp"
@@ -21,7 +21,7 @@
 
 #include "fovea/drivers/rate_meter.hpp"
 #include "fovea/drivers/support.hpp"
-#include "fovea/import/pupil_datum.hpp"
+#include "pupil/pupil_bus.hpp"
 #include "pupil/pupil_remote.hpp"
 
 namespace fovea::drivers::pupil {
@@ -32,12 +32,6 @@ constexpr int kPollMs = 50;
 std::shared_ptr<spdlog::logger> logger() {
     static const auto log = driver_logger("pupil");  // FOVEA_LOG_DRV_PUPIL=debug
     return log;
-}
-
-// "tcp://host:50020" -> "tcp://host:" + port.
-std::string bus_endpoint(const std::string& remote, const std::string& port) {
-    const auto colon = remote.rfind(':');
-    return remote.substr(0, colon + 1) + port;
 }
 
 class PupilDriver final : public Driver {
@@ -153,6 +147,8 @@ private:
         s.remote = std::move(*remote);
         auto port = s.remote->request("SUB_PORT");
         if (!port) return port.error();
+        auto bus = bus_address(config_.address, *port);
+        if (!bus) return make_error("Pupil Remote " + config_.address + ": " + bus.error().message);
         auto version = s.remote->request("v");
         if (!version) return version.error();
         if (config_.set_pupil_clock) {
@@ -160,7 +156,6 @@ private:
             if (!t) return t.error();
         }
         if (auto c = sync(s); !c) return c;
-        const std::string bus = bus_endpoint(config_.address, *port);
         s.sub = zmq_socket(context_, ZMQ_SUB);
         if (!s.sub) return make_error(std::string("zmq SUB socket: ") + zmq_strerror(zmq_errno()));
         const int zero = 0, hwm = 100'000;
@@ -168,11 +163,11 @@ private:
         zmq_setsockopt(s.sub, ZMQ_RCVHWM, &hwm, sizeof hwm);
         for (const auto& t : config_.topics)
             zmq_setsockopt(s.sub, ZMQ_SUBSCRIBE, t.data(), t.size());
-        if (zmq_connect(s.sub, bus.c_str()) != 0)
-            return make_error("Pupil bus " + bus + ": " + zmq_strerror(zmq_errno()));
+        if (zmq_connect(s.sub, bus->c_str()) != 0)
+            return make_error("Pupil bus " + *bus + ": " + zmq_strerror(zmq_errno()));
         std::lock_guard lock(mutex_);
         version_ = *version;
-        bus_ = bus;
+        bus_ = *bus;
         return {};
     }
 
@@ -211,8 +206,9 @@ private:
                 // (nobody wearing it); a new port means Capture restarted.
                 auto port = s.remote->request("SUB_PORT");
                 if (!port) return "Pupil Capture gone: " + port.error().message;
-                if (bus_endpoint(config_.address, *port) != bus_)
-                    return "Pupil Capture restarted (bus now on port " + *port + ")";
+                auto bus = bus_address(config_.address, *port);
+                if (!bus) return "Pupil Remote " + config_.address + ": " + bus.error().message;
+                if (*bus != bus_) return "Pupil Capture restarted (bus now on port " + *port + ")";
                 last_datum = now;
             }
         }
@@ -243,26 +239,19 @@ private:
             std::lock_guard lock(mutex_);
             for (const auto& f : frames) stats_.bytes += f.size();
         }
-        if (frames.size() < 2) return drop("a message without a datum frame");
-        auto d = import::decode_pupil_datum(frames[1]);
-        if (!d) return drop("malformed datum on '" + frames[0] + "': " + d.error().message);
-        if (d->topic.empty()) d->topic = frames[0];
-        gaze::RawSample s;
-        if (!import::pupil_sample(*d, config_.min_confidence, s)) {
-            if (!d->is_gaze() && !d->is_pupil()) return;  // blinks, notifications: not samples
-            return drop("datum on '" + frames[0] + "' without time stamp or norm_pos");
-        }
+        const BusMessage m = decode_bus_message(frames, config_.min_confidence);
+        if (m.kind == BusMessage::Kind::kOther) return;  // blinks, notifications: not samples
+        if (m.kind == BusMessage::Kind::kMalformed) return drop(m.why);
+        gaze::RawSample s = m.sample;
         double offset_s = 0;
         {
             std::lock_guard lock(mutex_);
             offset_s = offset_ ? offset_->offset_s : 0.0;
             if (!s.left.valid && !s.right.valid) ++low_confidence_;
             ++stats_.samples;
-            rate_.add(d->timestamp);  // Pupil time: capture times, free of network jitter
+            rate_.add(m.pupil_time_s);  // Pupil time: capture times, free of network jitter
         }
-        const double host_ns = (d->timestamp - offset_s) * 1e9;
-        s.device_ticks =
-            host_ns > 0 && host_ns < 9.2e18 ? static_cast<uint64_t>(std::llround(host_ns)) : 0;
+        s.device_ticks = host_ticks(m.pupil_time_s, offset_s);
         s.t_receive_ns = t_receive;
         s.device_id = device_id_;
         boost::asio::post(*io_, [this, token, s] {

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <string_view>
 
 namespace fovea::drivers::pupil {
 
@@ -44,6 +46,36 @@ std::optional<ClockOffset> estimate_offset(std::vector<RoundTrip> trips) {
     c.uncertainty_s = 0.5 * trips[c.kept - 1].rtt_s();
     c.median_rtt_s = trips[c.kept / 2].rtt_s();
     return c;
+}
+
+namespace {
+
+// A reply quoted in an error: bytes from the network, so bounded.
+std::string quoted(std::string_view reply) {
+    constexpr std::size_t kMax = 64;
+    return "'" + std::string(reply.substr(0, kMax)) + (reply.size() > kMax ? "...'" : "'");
+}
+
+}  // namespace
+
+Result<double> parse_time_reply(std::string_view reply) {
+    const std::string text(reply);  // strtod needs the terminator
+    char* end = nullptr;
+    const double t = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || !std::isfinite(t))
+        return make_error("'t' answered " + quoted(reply) + ", not a time");
+    return t;
+}
+
+Result<std::string> bus_address(const std::string& remote, std::string_view sub_port_reply) {
+    const std::string_view p = sub_port_reply;
+    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    int port = 0;
+    if (!p.empty() && p.size() <= 5 && std::all_of(p.begin(), p.end(), digit))
+        for (const char c : p) port = port * 10 + (c - '0');
+    if (port < 1 || port > 65535)
+        return make_error("'SUB_PORT' answered " + quoted(p) + ", not a port");
+    return remote.substr(0, remote.rfind(':') + 1) + std::string(p);
 }
 
 Result<std::unique_ptr<RemoteClient>> RemoteClient::connect(void* context,
@@ -90,11 +122,10 @@ Result<ClockOffset> RemoteClient::sync(int rounds) {
         auto r = request("t");
         t.host_received_s = host_seconds();
         if (!r) return r.error();
-        char* end = nullptr;
-        t.pupil_s = std::strtod(r->c_str(), &end);
-        if (end == r->c_str() || !std::isfinite(t.pupil_s))
-            return make_error("Pupil Remote " + address_ + ": 't' answered '" + *r +
-                              "', not a time");
+        auto pupil_s = parse_time_reply(*r);
+        if (!pupil_s)
+            return make_error("Pupil Remote " + address_ + ": " + pupil_s.error().message);
+        t.pupil_s = *pupil_s;
         trips.push_back(t);
     }
     auto c = estimate_offset(std::move(trips));

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fovea/result.hpp"
@@ -32,6 +33,13 @@ struct ClockOffset {
     std::size_t kept = 0, total = 0;
 };
 std::optional<ClockOffset> estimate_offset(std::vector<RoundTrip> trips);
+
+// Pupil Remote's answers, as bytes from the network. "t": Pupil time in seconds (text after the
+// number is ignored).
+Result<double> parse_time_reply(std::string_view reply);
+// "SUB_PORT": the bus port; the bus is at the Remote's host on that port
+// ("tcp://host:50020" + "50021" -> "tcp://host:50021").
+Result<std::string> bus_address(const std::string& remote, std::string_view sub_port_reply);
 
 double host_seconds();  // CLOCK_MONOTONIC
 

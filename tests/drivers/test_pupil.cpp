@@ -77,6 +77,18 @@ TEST(PupilTimeSync, DropsTheSlowestThirtyPercentAndUsesMidpoints) {
     EXPECT_FALSE(estimate_offset({{1.0, NAN, 1.1}}));
 }
 
+TEST(PupilRemoteReplies, SubPortMustBeAPortOnTheRemotesHost) {
+    const std::string remote = "tcp://10.0.0.7:50020";
+    EXPECT_EQ(bus_address(remote, "50021").value(), "tcp://10.0.0.7:50021");
+    EXPECT_EQ(bus_address(remote, "1").value(), "tcp://10.0.0.7:1");
+    for (const char* bad : {"", "0", "65536", "99999999", "5002x", " 50021", "50021\n", "-1"}) {
+        auto b = bus_address(remote, bad);
+        ASSERT_FALSE(b.ok()) << bad;
+        EXPECT_NE(b.error().message.find("'SUB_PORT' answered"), std::string::npos);
+    }
+    EXPECT_LT(bus_address(remote, std::string(10'000, '7')).error().message.size(), 120u);
+}
+
 TEST(PupilConfig, ClearErrorsNamingTheKey) {
     EXPECT_TRUE(parse_config(toml::table{}).ok());
     auto r = parse_config(toml::table{{"address", "127.0.0.1:50020"}});
