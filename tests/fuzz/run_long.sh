@@ -23,7 +23,8 @@ for t in "${targets[@]}"; do
     [ -n "${FUZZ_MAX_SECONDS:-}" ] && args+=(-max_total_time="$FUZZ_MAX_SECONDS")
     [ -f "$here/$t.dict" ] && args+=(-dict="$here/$t.dict")
     dirs=("$corpus")
-    for d in "$here/seeds/$t" "$fuzzdir/shared_seeds/$t" "$fuzzdir/repo_seeds/$t"; do
+    for d in "$here/seeds/$t" "$fuzzdir/shared_seeds/$t" "$fuzzdir/pldata_seeds/$t" \
+        "$fuzzdir/repo_seeds/$t"; do
         [ -d "$d" ] && dirs+=("$d")
     done
     echo "== $t: $fuzzdir/$t ${args[*]} ${dirs[*]}"
