@@ -34,8 +34,8 @@ struct ClockOffset {
 };
 std::optional<ClockOffset> estimate_offset(std::vector<RoundTrip> trips);
 
-// Pupil Remote's answers, as bytes from the network. "t": Pupil time in seconds (text after the
-// number is ignored).
+// Pupil Remote's answers, as bytes from the network. "t": Pupil time in seconds, |t| <= 9.2e9
+// (what 64-bit ns ticks hold; text after the number is ignored).
 Result<double> parse_time_reply(std::string_view reply);
 // "SUB_PORT": the bus port; the bus is at the Remote's host on that port
 // ("tcp://host:50020" + "50021" -> "tcp://host:50021").

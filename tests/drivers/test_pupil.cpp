@@ -89,6 +89,25 @@ TEST(PupilRemoteReplies, SubPortMustBeAPortOnTheRemotesHost) {
     EXPECT_LT(bus_address(remote, std::string(10'000, '7')).error().message.size(), 120u);
 }
 
+// Found by fuzz_pupil_remote: "t" answered with a huge finite number ("22e188") made the clock
+// offset of the round trips infinite, and every sample's host time 0.
+TEST(PupilRemoteReplies, TimeReplyIsAFiniteTimeThatFitsNanosecondTicks) {
+    EXPECT_DOUBLE_EQ(parse_time_reply("2294.807856069").value(), 2294.807856069);
+    EXPECT_DOUBLE_EQ(parse_time_reply("12.5 trailing").value(), 12.5);  // as strtod reads it
+    EXPECT_DOUBLE_EQ(parse_time_reply("1.7e9").value(), 1.7e9);         // Pupil time set to Unix
+    for (const char* bad : {"", "Unknown command.", "nan", "inf", "22e188", "-1e10", "1e10"}) {
+        auto t = parse_time_reply(bad);
+        ASSERT_FALSE(t.ok()) << bad;
+        EXPECT_NE(t.error().message.find("'t' answered"), std::string::npos);
+    }
+    std::vector<RoundTrip> trips;
+    for (const char* reply : {"22e188", "22e188", "1e3"})
+        if (auto t = parse_time_reply(reply)) trips.push_back({1.0, *t, 1.001});
+    const auto c = estimate_offset(trips);
+    ASSERT_TRUE(c);
+    EXPECT_TRUE(std::isfinite(c->offset_s));
+}
+
 TEST(PupilConfig, ClearErrorsNamingTheKey) {
     EXPECT_TRUE(parse_config(toml::table{}).ok());
     auto r = parse_config(toml::table{{"address", "127.0.0.1:50020"}});
