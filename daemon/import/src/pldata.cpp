@@ -87,8 +87,13 @@ bool PldataStream::next(std::string_view& topic, std::string_view& payload) {
 Result<std::unique_ptr<NpyDoubles>> NpyDoubles::open(const std::string& path) {
     auto src = ByteSource::file(path);
     if (!src) return src.error();
+    return open(std::move(*src), path);
+}
+
+Result<std::unique_ptr<NpyDoubles>> NpyDoubles::open(std::unique_ptr<ByteSource> source,
+                                                     const std::string& path) {
     std::unique_ptr<NpyDoubles> n(new NpyDoubles());
-    n->source_ = std::move(*src);
+    n->source_ = std::move(source);
     char magic[10];
     if (n->source_->read(magic, 10) != 10 || std::memcmp(magic, "\x93NUMPY", 6) != 0)
         return make_error(path + ": not a .npy file");

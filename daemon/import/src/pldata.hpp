@@ -41,6 +41,9 @@ private:
 class NpyDoubles {
 public:
     static Result<std::unique_ptr<NpyDoubles>> open(const std::string& path);
+    // Bytes from anywhere; `path` names them in errors.
+    static Result<std::unique_ptr<NpyDoubles>> open(std::unique_ptr<ByteSource> source,
+                                                    const std::string& path);
     bool next(double& out);
     uint64_t size() const { return size_; }
 
@@ -48,5 +51,9 @@ private:
     std::unique_ptr<ByteSource> source_;
     uint64_t size_ = 0, read_ = 0;
 };
+
+// "<recording_software_name> <recording_software_version>" from an info.player.json's text
+// (Pupil Capture 1.16+ writes it), or what was wrong with it. Never throws.
+std::string pupil_recording_software(std::string_view info_player_json);
 
 }  // namespace fovea::import::detail

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <queue>
 
 #include <nlohmann/json.hpp>
@@ -281,13 +282,10 @@ Result<std::vector<StreamSpec>> folder_streams(const fs::path& dir, bool& eye_ca
 
 // The recording software from info.player.json (Pupil Capture 1.16+ writes it).
 std::string recording_software(const fs::path& dir) {
-    std::ifstream in(dir / "info.player.json");
+    std::ifstream in(dir / "info.player.json", std::ios::binary);
     if (!in) return "Pupil (no info.player.json)";
-    try {
-        const auto j = nlohmann::json::parse(in);
-        return j.value("recording_software_name", std::string("Pupil")) + " " +
-               j.value("recording_software_version", std::string());
-    } catch (const std::exception&) { return "Pupil (info.player.json unreadable)"; }
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return pupil_recording_software(text);
 }
 
 Result<std::unique_ptr<PupilReader>> make(const std::string& path,
@@ -315,6 +313,14 @@ Result<std::unique_ptr<Reader>> open_specs(const std::string& path,
 }
 
 }  // namespace
+
+std::string pupil_recording_software(std::string_view info_player_json) {
+    try {
+        const auto j = nlohmann::json::parse(info_player_json);
+        return j.value("recording_software_name", std::string("Pupil")) + " " +
+               j.value("recording_software_version", std::string());
+    } catch (const std::exception&) { return "Pupil (info.player.json unreadable)"; }
+}
 
 Result<std::unique_ptr<Reader>> open_pldata(const SourceOpener& source, const std::string& path,
                                             const Options& options, double) {
