@@ -375,6 +375,47 @@ TEST(ImportPldata, ResyncsOverGarbageReordersAndReportsACutRecord) {
     EXPECT_TRUE(has_issue(r.stats, "last record cut off"));
 }
 
+// A recording folder with gaze.pldata and a gaze_timestamps.npy whose version byte is `version`.
+Read read_gaze_folder_with_npy_version(uint8_t version) {
+    const fs::path dir = fs::temp_directory_path() /
+                         ("fovea_import_npy_" + std::to_string(static_cast<int>(version)));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::string pldata, values;
+    for (int i = 0; i < 3; ++i) {
+        const double t = 100 + i * 0.004;
+        pldata += pldata_record("gaze", pupil_gaze("gaze.3d.01.", t, 0.9, 0.5, 0.5));
+        char le[8];
+        std::memcpy(le, &t, 8);  // little-endian host
+        values.append(le, 8);
+    }
+    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (3,), }";
+    header.resize(117, ' ');
+    header += '\n';
+    std::string npy = std::string("\x93NUMPY", 6) + static_cast<char>(version) + '\0';
+    npy += static_cast<char>(header.size() & 0xff);
+    npy += static_cast<char>(header.size() >> 8);
+    std::ofstream(dir / "gaze.pldata", std::ios::binary) << pldata;
+    std::ofstream(dir / "gaze_timestamps.npy", std::ios::binary) << npy + header + values;
+    auto r = open(dir.string());
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    Read out = r.ok() ? read_all(**r) : Read{};
+    fs::remove_all(dir);
+    return out;
+}
+
+// Found by fuzz_npy: the version byte was read as a signed char, so 0x80..0xff passed as
+// version 1 and the header was taken from the wrong bytes.
+TEST(ImportPldata, NpyOfAnUnknownVersionIsRefusedAndTheDatumStampsKept) {
+    const Read good = read_gaze_folder_with_npy_version(1);
+    EXPECT_EQ(good.samples.size(), 3u);
+    EXPECT_FALSE(has_issue(good.stats, ".npy"));
+    const Read bad = read_gaze_folder_with_npy_version(0xa5);
+    EXPECT_TRUE(has_issue(bad.stats, "gaze_timestamps.npy: unsupported .npy version 165"));
+    ASSERT_EQ(bad.samples.size(), 3u);  // the datums' own time stamps
+    EXPECT_DOUBLE_EQ(bad.samples[2].time_s, 100.008);
+}
+
 TEST(ImportPupilCsv, LslRelayEyesFromFiniteColumnsAndReorder) {
     const Read r = read_text(
         "timestamp,confidence,norm_pos_x,norm_pos_y,eye_center0_3d_x,eye_center1_3d_x,"

@@ -97,8 +97,12 @@ Result<std::unique_ptr<NpyDoubles>> NpyDoubles::open(std::unique_ptr<ByteSource>
     char magic[10];
     if (n->source_->read(magic, 10) != 10 || std::memcmp(magic, "\x93NUMPY", 6) != 0)
         return make_error(path + ": not a .npy file");
+    // Major versions 1 (2-byte header length), 2 and 3 (4-byte; 3 has a UTF-8 header).
+    const auto version = static_cast<uint8_t>(magic[6]);
+    if (version < 1 || version > 3)
+        return make_error(path + ": unsupported .npy version " + std::to_string(version));
     std::size_t header_len = static_cast<uint8_t>(magic[8]) | static_cast<uint8_t>(magic[9]) << 8;
-    if (magic[6] >= 2) {  // version 2+: a 4-byte header length
+    if (version >= 2) {
         char more[2];
         if (n->source_->read(more, 2) != 2) return make_error(path + ": cut-off .npy header");
         header_len |= static_cast<std::size_t>(static_cast<uint8_t>(more[0])) << 16 |
