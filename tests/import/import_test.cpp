@@ -375,10 +375,10 @@ TEST(ImportPldata, ResyncsOverGarbageReordersAndReportsACutRecord) {
     EXPECT_TRUE(has_issue(r.stats, "last record cut off"));
 }
 
-// A recording folder with gaze.pldata and a gaze_timestamps.npy whose version byte is `version`.
-Read read_gaze_folder_with_npy_version(uint8_t version) {
-    const fs::path dir = fs::temp_directory_path() /
-                         ("fovea_import_npy_" + std::to_string(static_cast<int>(version)));
+// A recording folder with gaze.pldata (3 datums) and a gaze_timestamps.npy of `version` and
+// `shape` holding their 3 time stamps.
+Read read_gaze_folder_with_npy(uint8_t version, const std::string& shape = "(3,)") {
+    const fs::path dir = fs::temp_directory_path() / "fovea_import_npy";
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::string pldata, values;
@@ -389,7 +389,7 @@ Read read_gaze_folder_with_npy_version(uint8_t version) {
         std::memcpy(le, &t, 8);  // little-endian host
         values.append(le, 8);
     }
-    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (3,), }";
+    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': " + shape + ", }";
     header.resize(117, ' ');
     header += '\n';
     std::string npy = std::string("\x93NUMPY", 6) + static_cast<char>(version) + '\0';
@@ -407,13 +407,30 @@ Read read_gaze_folder_with_npy_version(uint8_t version) {
 // Found by fuzz_npy: the version byte was read as a signed char, so 0x80..0xff passed as
 // version 1 and the header was taken from the wrong bytes.
 TEST(ImportPldata, NpyOfAnUnknownVersionIsRefusedAndTheDatumStampsKept) {
-    const Read good = read_gaze_folder_with_npy_version(1);
+    const Read good = read_gaze_folder_with_npy(1);
     EXPECT_EQ(good.samples.size(), 3u);
     EXPECT_FALSE(has_issue(good.stats, ".npy"));
-    const Read bad = read_gaze_folder_with_npy_version(0xa5);
+    const Read bad = read_gaze_folder_with_npy(0xa5);
     EXPECT_TRUE(has_issue(bad.stats, "gaze_timestamps.npy: unsupported .npy version 165"));
     ASSERT_EQ(bad.samples.size(), 3u);  // the datums' own time stamps
     EXPECT_DOUBLE_EQ(bad.samples[2].time_s, 100.008);
+}
+
+// Found reading NpyDoubles for fuzz_npy (no invariant there catches a misread length): the
+// shape's length went through strtoull, so "(-5,)" wrapped to 2^64 - 5, and only the first
+// dimension was looked at, so a 2-D array read as its first row.
+TEST(ImportPldata, NpyShapeMustBeOneNonNegativeLength) {
+    for (const char* shape : {"(3,)", "(3, )", "(3)"}) {
+        const Read r = read_gaze_folder_with_npy(1, shape);
+        EXPECT_FALSE(has_issue(r.stats, ".npy")) << shape;
+        EXPECT_EQ(r.samples.size(), 3u) << shape;
+    }
+    for (const char* shape : {"(-5,)", "(+3,)", "( 3,)", "(3, 1)", "(1, 3)", "()", "(3,,)"}) {
+        const Read r = read_gaze_folder_with_npy(1, shape);
+        EXPECT_TRUE(has_issue(r.stats, "gaze_timestamps.npy: .npy array is not one-dimensional"))
+            << shape;
+        EXPECT_EQ(r.samples.size(), 3u) << shape;  // the datums' own time stamps
+    }
 }
 
 TEST(ImportPupilCsv, LslRelayEyesFromFiniteColumnsAndReorder) {

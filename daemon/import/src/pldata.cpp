@@ -117,11 +117,19 @@ Result<std::unique_ptr<NpyDoubles>> NpyDoubles::open(std::unique_ptr<ByteSource>
         return make_error(path + ": expected a little-endian float64 array ('<f8')");
     const auto shape = header.find("'shape': (");
     if (shape == std::string::npos) return make_error(path + ": .npy header has no shape");
+    // "(N,)" as NumPy writes it (also "(N, )", "(N)"): digits only, one dimension; reading
+    // stops at 2^60 values (no file is that long) so that the length cannot wrap.
     const char* p = header.c_str() + shape + 10;
-    char* end = nullptr;
-    n->size_ = std::strtoull(p, &end, 10);
-    if (end == p || (*end != ',' && *end != ')'))
+    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    uint64_t size = 0;
+    const char* first = p;
+    for (; digit(*p) && size < (uint64_t{1} << 60); ++p)
+        size = size * 10 + static_cast<uint64_t>(*p - '0');
+    if (*p == ',') ++p;
+    while (*p == ' ') ++p;
+    if (!digit(*first) || *p != ')')
         return make_error(path + ": .npy array is not one-dimensional");
+    n->size_ = size;
     return n;
 }
 
