@@ -197,11 +197,14 @@ struct GpuFlip::Impl {
     void record_filter(VkCommandBuffer cmd, VkImageView a, VkImageView b, uint32_t kind,
                        uint32_t mode, int slot, bool timed = false) {
         assert(slot >= 0 && size_t(slot) < field_offset.size());
-        vk::compute_barrier(cmd);
+        // The first timestamp goes before the barrier: lavapipe writes a timestamp when the
+        // commands after it are next flushed (a barrier or a later timestamp), so one written
+        // after the barrier would read the time after prepare and leave prepare out.
         if (timed && queries) {
             vkCmdResetQueryPool(cmd, queries.get(), 0, kTimestamps);
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries.get(), 0);
         }
+        vk::compute_barrier(cmd);
         const PreparePush pp{width, height, kind};
         prepare.bind(cmd, VK_NULL_HANDLE, prepare_set(a, b), &pp, sizeof(pp));
         dispatch(cmd);
