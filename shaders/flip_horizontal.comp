@@ -7,12 +7,14 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 #include "flip_common.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Opponent { vec4 opponent[]; };
+// Read through texel buffers: llvmpipe turns a texel fetch into one vector gather, an SSBO load
+// into a per-lane loop of bounds-checked scalar loads.
+layout(set = 0, binding = 0) uniform samplerBuffer opponent;  // flip_prepare.comp's YCxCz, w
 layout(std430, set = 0, binding = 1) writeonly buffer Horizontal {
     vec4 horizontal[];  // two planes: (y, cx, cz1, cz2) per pixel, then (g, dg, ddg, valid)
 };
 layout(std430, set = 0, binding = 2) readonly buffer Axes { FlipAxis axes[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Weights { vec4 weights[]; };
+layout(set = 0, binding = 3) uniform samplerBuffer weights;
 layout(std430, set = 0, binding = 4) readonly buffer BlockAxis {
     uint block_axis[];  // per ppd field: ceil(width / 16) column blocks, then the row blocks
 };
@@ -31,15 +33,17 @@ void main() {
     // The kernels are even (the derivative odd) about the centre (gpu_flip.cpp checks): each
     // pair of taps is one load of either neighbour and one weight, shared by both loops.
     int rc = a.colour_radius, rf = a.feature_radius;
-    vec4 centre = opponent[row + p.x];
-    vec4 colour = weights[a.colour_offset + uint(rc)] * centre.xyzz;
-    vec3 feature = weights[a.feature_offset + uint(rf)].xyz * ((centre.x + 16.0) / 116.0);
+    vec4 centre = texelFetch(opponent, int(row + p.x));
+    vec4 colour = texelFetch(weights, int(a.colour_offset) + rc) * centre.xyzz;
+    vec3 feature =
+        texelFetch(weights, int(a.feature_offset) + rf).xyz * ((centre.x + 16.0) / 116.0);
     for (int i = 1; i <= max(rc, rf); ++i) {
-        vec4 l = opponent[row + uint(max(int(p.x) - i, 0))];
-        vec4 r = opponent[row + uint(min(int(p.x) + i, last))];
-        if (i <= rc) colour += weights[a.colour_offset + uint(rc + i)] * (l.xyzz + r.xyzz);
+        vec4 l = texelFetch(opponent, int(row) + max(int(p.x) - i, 0));
+        vec4 r = texelFetch(opponent, int(row) + min(int(p.x) + i, last));
+        if (i <= rc)
+            colour += texelFetch(weights, int(a.colour_offset) + rc + i) * (l.xyzz + r.xyzz);
         if (i <= rf) {
-            vec3 w = weights[a.feature_offset + uint(rf + i)].xyz;
+            vec3 w = texelFetch(weights, int(a.feature_offset) + rf + i).xyz;
             float yl = (l.x + 16.0) / 116.0, yr = (r.x + 16.0) / 116.0;
             feature += vec3(w.x * (yl + yr), w.y * (yr - yl), w.z * (yl + yr));
         }

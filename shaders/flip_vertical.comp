@@ -11,16 +11,16 @@ layout(local_size_x = 16, local_size_y = 16) in;
 #define FLIP_COLOUR_BINDING 6
 #include "flip_colour.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Horizontal {
-    vec4 horizontal[];  // flip_horizontal.comp's two planes
-};
-layout(std430, set = 0, binding = 1) buffer Reference {
+// Reads through texel buffers, as in flip_horizontal.comp.
+layout(set = 0, binding = 0) uniform samplerBuffer horizontal;  // flip_horizontal.comp's planes
+layout(std430, set = 0, binding = 1) writeonly buffer Reference {
     vec4 reference[];  // per reference two planes: (L, a, b, edge), then (point, valid, 0, 0)
 };
 layout(std430, set = 0, binding = 2) writeonly buffer Map { float map[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Axes { FlipAxis axes[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Weights { vec4 weights[]; };
+layout(set = 0, binding = 4) uniform samplerBuffer weights;
 layout(std430, set = 0, binding = 5) readonly buffer BlockAxis { uint block_axis[]; };
+layout(set = 0, binding = 7) uniform samplerBuffer reference_in;  // Reference, to read
 
 layout(push_constant) uniform Push {
     uvec2 size;
@@ -39,26 +39,26 @@ void main() {
     // Even kernels (the derivative odd), paired as in flip_horizontal.comp.
     int rc = a.colour_radius, rf = a.feature_radius;
     uint here = p.y * size.x + p.x, plane = size.x * size.y;
-    vec4 h0 = horizontal[here];
-    vec4 w0 = weights[a.colour_offset + uint(rc)];
+    vec4 h0 = texelFetch(horizontal, int(here));
+    vec4 w0 = texelFetch(weights, int(a.colour_offset) + rc);
     vec3 c = vec3(w0.x * h0.x, w0.y * h0.y, w0.z * h0.z + w0.w * h0.w);
     for (int j = 1; j <= rc; ++j) {
         uint up = uint(max(int(p.y) - j, 0)) * size.x + p.x;
         uint down = uint(min(int(p.y) + j, last)) * size.x + p.x;
-        vec4 h = horizontal[up] + horizontal[down];
-        vec4 w = weights[a.colour_offset + uint(rc + j)];
+        vec4 h = texelFetch(horizontal, int(up)) + texelFetch(horizontal, int(down));
+        vec4 w = texelFetch(weights, int(a.colour_offset) + rc + j);
         c += vec3(w.x * h.x, w.y * h.y, w.z * h.z + w.w * h.w);
     }
     c.z /= column.cz1_sum * a.cz1_sum + column.cz2_sum * a.cz2_sum;
-    vec4 f0 = horizontal[plane + here];
-    vec3 v0 = weights[a.feature_offset + uint(rf)].xyz;
+    vec4 f0 = texelFetch(horizontal, int(plane + here));
+    vec3 v0 = texelFetch(weights, int(a.feature_offset) + rf).xyz;
     vec4 d = vec4(v0.x * f0.y, v0.x * f0.z, v0.y * f0.x, v0.z * f0.x);  // dx, ddx, dy, ddy
     for (int j = 1; j <= rf; ++j) {
         uint up = plane + uint(max(int(p.y) - j, 0)) * size.x + p.x;
         uint down = plane + uint(min(int(p.y) + j, last)) * size.x + p.x;
-        vec4 hu = horizontal[up], hd = horizontal[down];
+        vec4 hu = texelFetch(horizontal, int(up)), hd = texelFetch(horizontal, int(down));
         vec4 sum = hu + hd;
-        vec3 w = weights[a.feature_offset + uint(rf + j)].xyz;
+        vec3 w = texelFetch(weights, int(a.feature_offset) + rf + j).xyz;
         d += vec4(w.x * sum.y, w.x * sum.z, w.y * (hd.x - hu.x), w.z * sum.x);
     }
     vec3 lab = flip_linear_rgb_to_hunt_lab(clamp(flip_ycxcz_to_linear_rgb(c), 0.0, 1.0));
@@ -70,7 +70,7 @@ void main() {
         reference[r + plane] = vec4(point, valid, 0.0, 0.0);
         return;
     }
-    vec4 r0 = reference[r], r1 = reference[r + plane];
+    vec4 r0 = texelFetch(reference_in, int(r)), r1 = texelFetch(reference_in, int(r + plane));
     if (r1.y == 0.0) {
         map[here] = uintBitsToFloat(0x7fc00000u);  // NaN: not pooled
         return;

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,37 @@ struct VerticalPush {
 };
 
 constexpr uint32_t kBackProject = 2;  // kFlipBackProject
-constexpr uint32_t kTimestamps = 4;   // start, after prepare, horizontal, vertical
+
+using UniqueBufferView = vk::Unique<VkBufferView, vkDestroyBufferView>;
+
+// An RGBA32F uniform texel buffer view of all of `buffer` (the shaders read the images and the
+// weights this way: on llvmpipe a texel fetch is one vector gather, an SSBO load a per-lane loop).
+UniqueBufferView texel_view(const vk::Device& d, const vk::Buffer& buffer) {
+    VkBufferViewCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    bi.buffer = buffer.get();
+    bi.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    bi.range = buffer.size() / 16 * 16;
+    return vk::create_handle<UniqueBufferView>(d.device(), vkCreateBufferView, bi);
+}
+
+void write_texel_views(VkDevice device, VkDescriptorSet set,
+                       std::initializer_list<std::pair<uint32_t, VkBufferView>> views) {
+    std::vector<VkBufferView> handles;
+    for (const auto& v : views) handles.push_back(v.second);
+    std::vector<VkWriteDescriptorSet> writes;
+    size_t i = 0;
+    for (const auto& v : views) {
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstSet = set;
+        w.dstBinding = v.first;
+        w.descriptorCount = 1;
+        w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        w.pTexelBufferView = &handles[i++];
+        writes.push_back(w);
+    }
+    vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);
+}
+constexpr uint32_t kTimestamps = 4;  // start, after prepare, horizontal, vertical
 
 void fill_mat3(float* out, const detail::Mat3& m) {
     for (int c = 0; c < 3; ++c) {
@@ -151,6 +182,7 @@ struct GpuFlip::Impl {
     const vk::Device* device = nullptr;
     uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0;
     vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour;
+    UniqueBufferView opponent_view, horizontal_view, reference_view, weights_view;
     vk::ComputePipeline prepare, horiz, vert;
     vk::LinearClampSampler sampler;
     VkDescriptorSet horiz_set = VK_NULL_HANDLE, vert_set = VK_NULL_HANDLE;
@@ -239,15 +271,24 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         m->blocks_y = vk::div_up(height, kBlock);
         const VkDeviceSize pixels = VkDeviceSize(width) * height;
         constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        m->opponent = vk::Buffer(device, pixels * 16, kStorage, false);
-        m->horizontal = vk::Buffer(device, pixels * 32, kStorage, false);
-        m->reference = vk::Buffer(device, pixels * 32 * references.size(), kStorage, false);
+        constexpr VkBufferUsageFlags kTexel =
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+        const uint64_t texels = 2 * pixels * references.size();  // the largest view
+        if (texels > device.properties().limits.maxTexelBufferElements)
+            return make_error("GPU FLIP: the image is too large for the device's texel buffers");
+        m->opponent = vk::Buffer(device, pixels * 16, kTexel, false);
+        m->horizontal = vk::Buffer(device, pixels * 32, kTexel, false);
+        m->reference = vk::Buffer(device, pixels * 32 * references.size(), kTexel, false);
         m->field_offset = tables.field_offset;
         m->map = vk::Buffer(device, pixels * 4, kStorage, true);
         m->motion = vk::Buffer(device, pixels * 8, kStorage, true);
         std::memset(m->motion.data(), 0, pixels * 8);
         m->axes = host_buffer(device, tables.axes, kStorage);
-        m->weights = host_buffer(device, tables.weights, kStorage);
+        m->weights = host_buffer(device, tables.weights, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+        m->opponent_view = texel_view(device, m->opponent);
+        m->horizontal_view = texel_view(device, m->horizontal);
+        m->reference_view = texel_view(device, m->reference);
+        m->weights_view = texel_view(device, m->weights);
         m->block_axis = host_buffer(device, tables.block_axis, kStorage);
         ColourGpu c{};
         fill_mat3(c.rgb_to_xyz, detail::rgb_to_xyz());
@@ -267,9 +308,10 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const B sampled{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
         const B storage{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
         const B uniform{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER};
+        const B texel{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
         const B prepare_b[] = {sampled, sampled, storage, storage, uniform};
-        const B horiz_b[] = {storage, storage, storage, storage, storage};
-        const B vert_b[] = {storage, storage, storage, storage, storage, storage, uniform};
+        const B horiz_b[] = {texel, storage, storage, texel, storage};
+        const B vert_b[] = {texel, storage, storage, storage, texel, storage, uniform, texel};
         m->prepare = vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"),
                                          VK_NULL_HANDLE, prepare_b, sizeof(PreparePush));
         m->horiz = vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"),
@@ -278,22 +320,24 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
                                       VK_NULL_HANDLE, vert_b, sizeof(VerticalPush));
         m->horiz_set = m->horiz.allocate_set();
         vk::DescriptorWriter(device.device(), m->horiz_set)
-            .storage_buffer(0, m->opponent)
             .storage_buffer(1, m->horizontal)
             .storage_buffer(2, m->axes)
-            .storage_buffer(3, m->weights)
             .storage_buffer(4, m->block_axis)
             .commit();
+        write_texel_views(device.device(), m->horiz_set,
+                          {{0, m->opponent_view.get()}, {3, m->weights_view.get()}});
         m->vert_set = m->vert.allocate_set();
         vk::DescriptorWriter(device.device(), m->vert_set)
-            .storage_buffer(0, m->horizontal)
             .storage_buffer(1, m->reference)
             .storage_buffer(2, m->map)
             .storage_buffer(3, m->axes)
-            .storage_buffer(4, m->weights)
             .storage_buffer(5, m->block_axis)
             .uniform_buffer(6, m->colour)
             .commit();
+        write_texel_views(device.device(), m->vert_set,
+                          {{0, m->horizontal_view.get()},
+                           {4, m->weights_view.get()},
+                           {7, m->reference_view.get()}});
         const VkDescriptorPoolSize sizes[] = {
             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * Impl::kPrepareSets},
