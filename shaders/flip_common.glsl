@@ -18,6 +18,15 @@ struct FlipAxis {
     float reserved1;
 };
 
+// The axis of one 16-pixel block: `axes` is the FlipAxis table as a texel buffer (two uvec4 per
+// entry), `block_axis` the entry of each block.
+FlipAxis flip_axis(usamplerBuffer axes, usamplerBuffer block_axis, uint block) {
+    int i = int(texelFetch(block_axis, int(block)).x);
+    uvec4 a = texelFetch(axes, 2 * i), b = texelFetch(axes, 2 * i + 1);
+    return FlipAxis(int(a.x), int(a.y), a.z, a.w, uintBitsToFloat(b.x), uintBitsToFloat(b.y), 0.0,
+                    0.0);
+}
+
 // What an input texel holds.
 const uint kFlipSrgb = 0u;         // sRGB-encoded values (an RGBA8 UNORM upload, or floats 0..1)
 const uint kFlipDemoDisplay = 1u;  // linear HDR: the demo's display transform, 8-bit rounded

@@ -10,14 +10,12 @@ layout(local_size_x = 16, local_size_y = 16) in;
 // Read through texel buffers: llvmpipe turns a texel fetch into one vector gather, an SSBO load
 // into a per-lane loop of bounds-checked scalar loads.
 layout(set = 0, binding = 0) uniform samplerBuffer opponent;  // flip_prepare.comp's YCxCz, w
-layout(std430, set = 0, binding = 1) writeonly buffer Horizontal {
-    vec4 horizontal[];  // two planes: (y, cx, cz1, cz2) per pixel, then (g, dg, ddg, valid)
-};
-layout(std430, set = 0, binding = 2) readonly buffer Axes { FlipAxis axes[]; };
+// Two planes: (y, cx, cz1, cz2) per pixel, then (g, dg, ddg, valid); a storage texel buffer.
+layout(set = 0, binding = 1, rgba32f) uniform writeonly imageBuffer horizontal;
+layout(set = 0, binding = 2) uniform usamplerBuffer axes;
 layout(set = 0, binding = 3) uniform samplerBuffer weights;
-layout(std430, set = 0, binding = 4) readonly buffer BlockAxis {
-    uint block_axis[];  // per ppd field: ceil(width / 16) column blocks, then the row blocks
-};
+// Per ppd field: ceil(width / 16) column blocks, then the row blocks.
+layout(set = 0, binding = 4) uniform usamplerBuffer block_axis;
 
 layout(push_constant) uniform Push {
     uvec2 size;
@@ -27,7 +25,7 @@ layout(push_constant) uniform Push {
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(p, size))) return;
-    FlipAxis a = axes[block_axis[block_offset + gl_WorkGroupID.x]];
+    FlipAxis a = flip_axis(axes, block_axis, block_offset + gl_WorkGroupID.x);
     uint row = p.y * size.x;
     int last = int(size.x) - 1;
     // The kernels are even (the derivative odd) about the centre (gpu_flip.cpp checks): each
@@ -49,6 +47,6 @@ void main() {
         }
     }
     uint i = row + p.x;
-    horizontal[i] = colour;
-    horizontal[size.x * size.y + i] = vec4(feature, centre.w);
+    imageStore(horizontal, int(i), colour);
+    imageStore(horizontal, int(size.x * size.y + i), vec4(feature, centre.w));
 }

@@ -13,7 +13,9 @@ layout(set = 0, binding = 1) uniform sampler2D input_b;  // kFlipBackProject: th
 layout(std430, set = 0, binding = 2) readonly buffer Motion {
     vec2 motion[];  // kFlipBackProject: current - previous position of each pixel centre, pixels
 };
-layout(std430, set = 0, binding = 3) writeonly buffer Opponent { vec4 opponent[]; };
+// Written through a storage texel buffer: on llvmpipe one 16-byte store per lane, not four
+// bounds-checked scalar stores.
+layout(set = 0, binding = 3, rgba32f) uniform writeonly imageBuffer opponent;
 
 layout(push_constant) uniform Push {
     uvec2 size;
@@ -55,5 +57,5 @@ void main() {
     }
     vec3 lin = vec3(flip_srgb_to_linear(srgb.r), flip_srgb_to_linear(srgb.g),
                     flip_srgb_to_linear(srgb.b));
-    opponent[p.y * size.x + p.x] = vec4(flip_linear_rgb_to_ycxcz(lin), valid);
+    imageStore(opponent, int(p.y * size.x + p.x), vec4(flip_linear_rgb_to_ycxcz(lin), valid));
 }

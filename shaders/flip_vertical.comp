@@ -13,13 +13,13 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 // Reads through texel buffers, as in flip_horizontal.comp.
 layout(set = 0, binding = 0) uniform samplerBuffer horizontal;  // flip_horizontal.comp's planes
-layout(std430, set = 0, binding = 1) writeonly buffer Reference {
-    vec4 reference[];  // per reference two planes: (L, a, b, edge), then (point, valid, 0, 0)
-};
-layout(std430, set = 0, binding = 2) writeonly buffer Map { float map[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Axes { FlipAxis axes[]; };
+// Per reference two planes: (L, a, b, edge), then (point, valid, 0, 0). Written through storage
+// texel buffers (one 16-byte store per lane on llvmpipe), read through reference_in.
+layout(set = 0, binding = 1, rgba32f) uniform writeonly imageBuffer reference;
+layout(set = 0, binding = 2, r32f) uniform writeonly imageBuffer map;
+layout(set = 0, binding = 3) uniform usamplerBuffer axes;
 layout(set = 0, binding = 4) uniform samplerBuffer weights;
-layout(std430, set = 0, binding = 5) readonly buffer BlockAxis { uint block_axis[]; };
+layout(set = 0, binding = 5) uniform usamplerBuffer block_axis;
 layout(set = 0, binding = 7) uniform samplerBuffer reference_in;  // Reference, to read
 
 layout(push_constant) uniform Push {
@@ -27,14 +27,14 @@ layout(push_constant) uniform Push {
     uint blocks_x;
     uint mode;          // 0: store as reference, 1: compare with the reference
     uint block_offset;  // this ppd field's first column block in block_axis (rows follow)
-    uint reference_offset;  // this reference's first vec4 in reference[]
+    uint reference_offset;  // this reference's first texel in reference
 };
 
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(p, size))) return;
-    FlipAxis column = axes[block_axis[block_offset + gl_WorkGroupID.x]];
-    FlipAxis a = axes[block_axis[block_offset + blocks_x + gl_WorkGroupID.y]];
+    FlipAxis column = flip_axis(axes, block_axis, block_offset + gl_WorkGroupID.x);
+    FlipAxis a = flip_axis(axes, block_axis, block_offset + blocks_x + gl_WorkGroupID.y);
     int last = int(size.y) - 1;
     // Even kernels (the derivative odd), paired as in flip_horizontal.comp.
     int rc = a.colour_radius, rf = a.feature_radius;
@@ -66,13 +66,13 @@ void main() {
     uint r = reference_offset + here;
     float valid = f0.w;
     if (mode == 0u) {
-        reference[r] = vec4(lab, edge);
-        reference[r + plane] = vec4(point, valid, 0.0, 0.0);
+        imageStore(reference, int(r), vec4(lab, edge));
+        imageStore(reference, int(r + plane), vec4(point, valid, 0.0, 0.0));
         return;
     }
     vec4 r0 = texelFetch(reference_in, int(r)), r1 = texelFetch(reference_in, int(r + plane));
     if (r1.y == 0.0) {
-        map[here] = uintBitsToFloat(0x7fc00000u);  // NaN: not pooled
+        imageStore(map, int(here), vec4(uintBitsToFloat(0x7fc00000u)));  // NaN: not pooled
         return;
     }
     float hyab = abs(r0.x - lab.x) + length(r0.yz - lab.yz);
@@ -82,5 +82,6 @@ void main() {
     float feature = sqrt(max(abs(r0.w - edge), abs(r1.x - point)) * flip_colour.feature.x);
     float exponent = 1.0 - feature;
     // pow(0, y) is undefined in GLSL for y <= 0; the reference's is 0 for y > 0 and 1 at 0.
-    map[here] = colour > 0.0 ? pow(colour, exponent) : (exponent > 0.0 ? 0.0 : 1.0);
+    float flip = colour > 0.0 ? pow(colour, exponent) : (exponent > 0.0 ? 0.0 : 1.0);
+    imageStore(map, int(here), vec4(flip));
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -44,17 +45,20 @@ constexpr uint32_t kBackProject = 2;  // kFlipBackProject
 
 using UniqueBufferView = vk::Unique<VkBufferView, vkDestroyBufferView>;
 
-// An RGBA32F uniform texel buffer view of all of `buffer` (the shaders read the images and the
-// weights this way: on llvmpipe a texel fetch is one vector gather, an SSBO load a per-lane loop).
-UniqueBufferView texel_view(const vk::Device& d, const vk::Buffer& buffer) {
+// A uniform texel buffer view of all of `buffer` (the shaders read every buffer this way: on
+// llvmpipe a texel fetch is one vector gather, an SSBO load a per-lane loop of scalar loads).
+UniqueBufferView texel_view(const vk::Device& d, const vk::Buffer& buffer,
+                            VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                            VkDeviceSize texel_bytes = 16) {
     VkBufferViewCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     bi.buffer = buffer.get();
-    bi.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    bi.range = buffer.size() / 16 * 16;
+    bi.format = format;
+    bi.range = buffer.size() / texel_bytes * texel_bytes;
     return vk::create_handle<UniqueBufferView>(d.device(), vkCreateBufferView, bi);
 }
 
-void write_texel_views(VkDevice device, VkDescriptorSet set,
+// Texel buffer descriptors: uniform (read) or storage (written).
+void write_texel_views(VkDevice device, VkDescriptorSet set, VkDescriptorType type,
                        std::initializer_list<std::pair<uint32_t, VkBufferView>> views) {
     std::vector<VkBufferView> handles;
     for (const auto& v : views) handles.push_back(v.second);
@@ -65,7 +69,7 @@ void write_texel_views(VkDevice device, VkDescriptorSet set,
         w.dstSet = set;
         w.dstBinding = v.first;
         w.descriptorCount = 1;
-        w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        w.descriptorType = type;
         w.pTexelBufferView = &handles[i++];
         writes.push_back(w);
     }
@@ -182,7 +186,8 @@ struct GpuFlip::Impl {
     const vk::Device* device = nullptr;
     uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0;
     vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour;
-    UniqueBufferView opponent_view, horizontal_view, reference_view, weights_view;
+    UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
+        axes_view, block_axis_view;
     vk::ComputePipeline prepare, horiz, vert;
     vk::LinearClampSampler sampler;
     VkDescriptorSet horiz_set = VK_NULL_HANDLE, vert_set = VK_NULL_HANDLE;
@@ -210,9 +215,10 @@ struct GpuFlip::Impl {
             .sampled_image(0, a, sampler.get())
             .sampled_image(1, b, sampler.get())
             .storage_buffer(2, motion)
-            .storage_buffer(3, opponent)
             .uniform_buffer(4, colour)
             .commit();
+        write_texel_views(device->device(), set, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER,
+                          {{3, opponent_view.get()}});
         prepare_sets.emplace(key, set);
         return set;
     }
@@ -272,7 +278,7 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const VkDeviceSize pixels = VkDeviceSize(width) * height;
         constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
         constexpr VkBufferUsageFlags kTexel =
-            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+            VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
         const uint64_t texels = 2 * pixels * references.size();  // the largest view
         if (texels > device.properties().limits.maxTexelBufferElements)
             return make_error("GPU FLIP: the image is too large for the device's texel buffers");
@@ -280,16 +286,20 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         m->horizontal = vk::Buffer(device, pixels * 32, kTexel, false);
         m->reference = vk::Buffer(device, pixels * 32 * references.size(), kTexel, false);
         m->field_offset = tables.field_offset;
-        m->map = vk::Buffer(device, pixels * 4, kStorage, true);
+        m->map = vk::Buffer(device, pixels * 4, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, true);
         m->motion = vk::Buffer(device, pixels * 8, kStorage, true);
         std::memset(m->motion.data(), 0, pixels * 8);
-        m->axes = host_buffer(device, tables.axes, kStorage);
-        m->weights = host_buffer(device, tables.weights, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+        constexpr VkBufferUsageFlags kTable = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+        m->axes = host_buffer(device, tables.axes, kTable);
+        m->weights = host_buffer(device, tables.weights, kTable);
+        m->block_axis = host_buffer(device, tables.block_axis, kTable);
         m->opponent_view = texel_view(device, m->opponent);
         m->horizontal_view = texel_view(device, m->horizontal);
         m->reference_view = texel_view(device, m->reference);
+        m->map_view = texel_view(device, m->map, VK_FORMAT_R32_SFLOAT, 4);
         m->weights_view = texel_view(device, m->weights);
-        m->block_axis = host_buffer(device, tables.block_axis, kStorage);
+        m->axes_view = texel_view(device, m->axes, VK_FORMAT_R32G32B32A32_UINT);
+        m->block_axis_view = texel_view(device, m->block_axis, VK_FORMAT_R32_UINT, 4);
         ColourGpu c{};
         fill_mat3(c.rgb_to_xyz, detail::rgb_to_xyz());
         fill_mat3(c.xyz_to_rgb, detail::xyz_to_rgb());
@@ -309,9 +319,10 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const B storage{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
         const B uniform{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER};
         const B texel{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
-        const B prepare_b[] = {sampled, sampled, storage, storage, uniform};
-        const B horiz_b[] = {texel, storage, storage, texel, storage};
-        const B vert_b[] = {texel, storage, storage, storage, texel, storage, uniform, texel};
+        const B out{VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER};
+        const B prepare_b[] = {sampled, sampled, storage, out, uniform};
+        const B horiz_b[] = {texel, out, texel, texel, texel};
+        const B vert_b[] = {texel, out, out, texel, texel, texel, uniform, texel};
         m->prepare = vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"),
                                          VK_NULL_HANDLE, prepare_b, sizeof(PreparePush));
         m->horiz = vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"),
@@ -319,32 +330,32 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         m->vert = vk::ComputePipeline(device, vk::shader_spirv("flip_vertical.comp"),
                                       VK_NULL_HANDLE, vert_b, sizeof(VerticalPush));
         m->horiz_set = m->horiz.allocate_set();
-        vk::DescriptorWriter(device.device(), m->horiz_set)
-            .storage_buffer(1, m->horizontal)
-            .storage_buffer(2, m->axes)
-            .storage_buffer(4, m->block_axis)
-            .commit();
-        write_texel_views(device.device(), m->horiz_set,
-                          {{0, m->opponent_view.get()}, {3, m->weights_view.get()}});
+        constexpr VkDescriptorType kRead = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        constexpr VkDescriptorType kWrite = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+        write_texel_views(device.device(), m->horiz_set, kWrite, {{1, m->horizontal_view.get()}});
+        write_texel_views(device.device(), m->horiz_set, kRead,
+                          {{0, m->opponent_view.get()},
+                           {2, m->axes_view.get()},
+                           {3, m->weights_view.get()},
+                           {4, m->block_axis_view.get()}});
         m->vert_set = m->vert.allocate_set();
-        vk::DescriptorWriter(device.device(), m->vert_set)
-            .storage_buffer(1, m->reference)
-            .storage_buffer(2, m->map)
-            .storage_buffer(3, m->axes)
-            .storage_buffer(5, m->block_axis)
-            .uniform_buffer(6, m->colour)
-            .commit();
-        write_texel_views(device.device(), m->vert_set,
+        vk::DescriptorWriter(device.device(), m->vert_set).uniform_buffer(6, m->colour).commit();
+        write_texel_views(device.device(), m->vert_set, kWrite,
+                          {{1, m->reference_view.get()}, {2, m->map_view.get()}});
+        write_texel_views(device.device(), m->vert_set, kRead,
                           {{0, m->horizontal_view.get()},
+                           {3, m->axes_view.get()},
                            {4, m->weights_view.get()},
+                           {5, m->block_axis_view.get()},
                            {7, m->reference_view.get()}});
         const VkDescriptorPoolSize sizes[] = {
             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * Impl::kPrepareSets},
-            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * Impl::kPrepareSets},
+            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, Impl::kPrepareSets},
+            {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, Impl::kPrepareSets}};
         VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         dpi.maxSets = Impl::kPrepareSets;
-        dpi.poolSizeCount = 3;
+        dpi.poolSizeCount = uint32_t(std::size(sizes));
         dpi.pPoolSizes = sizes;
         m->prepare_pool = vk::create_handle<vk::UniqueDescriptorPool>(device.device(),
                                                                       vkCreateDescriptorPool, dpi);
