@@ -17,10 +17,10 @@ layout(std430, set = 0, binding = 2) readonly buffer Motion {
 // bounds-checked scalar stores.
 layout(set = 0, binding = 3, rgba32f) uniform writeonly imageBuffer opponent;
 
-layout(push_constant) uniform Push {
-    uvec2 size;
-    uint kind;
-};
+layout(push_constant) uniform Push { uvec2 size; };
+// One pipeline per kind: llvmpipe runs both sides of every branch under a lane mask, so a kind
+// chosen at run time would pay for the back-projection's four fetches and transforms always.
+layout(constant_id = 0) const uint kind = kFlipSrgb;
 
 vec3 display(vec4 texel, uint k) {
     return k == kFlipDemoDisplay ? flip_demo_display(texel.rgb) : clamp(texel.rgb, 0.0, 1.0);

@@ -22,10 +22,12 @@ layout(set = 0, binding = 4) uniform samplerBuffer weights;
 layout(set = 0, binding = 5) uniform usamplerBuffer block_axis;
 layout(set = 0, binding = 7) uniform samplerBuffer reference_in;  // Reference, to read
 
+// One pipeline per mode (llvmpipe would run both under a lane mask).
+layout(constant_id = 0) const uint mode = 0u;  // 0: store as reference, 1: compare with it
+
 layout(push_constant) uniform Push {
     uvec2 size;
     uint blocks_x;
-    uint mode;          // 0: store as reference, 1: compare with the reference
     uint block_offset;  // this ppd field's first column block in block_axis (rows follow)
     uint reference_offset;  // this reference's first texel in reference
 };

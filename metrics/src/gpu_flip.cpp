@@ -32,13 +32,13 @@ struct ColourGpu {  // FlipColour, std140: a mat3 is 3 columns of vec4
 static_assert(sizeof(ColourGpu) == 144);
 
 struct PreparePush {
-    uint32_t width, height, kind;
+    uint32_t width, height;
 };
 struct HorizontalPush {
     uint32_t width, height, block_offset;
 };
 struct VerticalPush {
-    uint32_t width, height, blocks_x, mode, block_offset, reference_offset;
+    uint32_t width, height, blocks_x, block_offset, reference_offset;
 };
 
 constexpr uint32_t kBackProject = 2;  // kFlipBackProject
@@ -188,7 +188,7 @@ struct GpuFlip::Impl {
     vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour;
     UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
         axes_view, block_axis_view;
-    vk::ComputePipeline prepare, horiz, vert;
+    vk::ComputePipeline prepare[3], horiz, vert[2];  // per FlipInput kind (+ back-projection), mode
     vk::LinearClampSampler sampler;
     VkDescriptorSet horiz_set = VK_NULL_HANDLE, vert_set = VK_NULL_HANDLE;
     vk::UniqueDescriptorPool prepare_pool;
@@ -204,7 +204,7 @@ struct GpuFlip::Impl {
         if (prepare_sets.size() == kPrepareSets)
             throw vk::VkError(VK_ERROR_OUT_OF_POOL_MEMORY,
                               "GPU FLIP: more than 64 distinct input images");
-        VkDescriptorSetLayout layout = prepare.set_layout();
+        VkDescriptorSetLayout layout = prepare[0].set_layout();  // all three's are alike
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = prepare_pool.get();
         ai.descriptorSetCount = 1;
@@ -243,8 +243,8 @@ struct GpuFlip::Impl {
             vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries.get(), 0);
         }
         vk::compute_barrier(cmd);
-        const PreparePush pp{width, height, kind};
-        prepare.bind(cmd, VK_NULL_HANDLE, prepare_set(a, b), &pp, sizeof(pp));
+        const PreparePush pp{width, height};
+        prepare[kind].bind(cmd, VK_NULL_HANDLE, prepare_set(a, b), &pp, sizeof(pp));
         dispatch(cmd);
         timestamp(cmd, timed, 1);
         vk::compute_barrier(cmd);
@@ -253,9 +253,9 @@ struct GpuFlip::Impl {
         dispatch(cmd);
         timestamp(cmd, timed, 2);
         vk::compute_barrier(cmd);
-        const VerticalPush vp{
-            width, height, blocks_x, mode, field_offset[slot], uint32_t(2 * slot) * width * height};
-        vert.bind(cmd, VK_NULL_HANDLE, vert_set, &vp, sizeof(vp));
+        const VerticalPush vp{width, height, blocks_x, field_offset[slot],
+                              uint32_t(2 * slot) * width * height};
+        vert[mode].bind(cmd, VK_NULL_HANDLE, vert_set, &vp, sizeof(vp));
         dispatch(cmd);
         timestamp(cmd, timed, 3);
     }
@@ -323,12 +323,19 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const B prepare_b[] = {sampled, sampled, storage, out, uniform};
         const B horiz_b[] = {texel, out, texel, texel, texel};
         const B vert_b[] = {texel, out, out, texel, texel, texel, uniform, texel};
-        m->prepare = vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"),
-                                         VK_NULL_HANDLE, prepare_b, sizeof(PreparePush));
+        for (uint32_t kind = 0; kind < 3; ++kind) {
+            const uint32_t spec[] = {kind};
+            m->prepare[kind] =
+                vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"), VK_NULL_HANDLE,
+                                    prepare_b, sizeof(PreparePush), spec);
+        }
         m->horiz = vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"),
                                        VK_NULL_HANDLE, horiz_b, sizeof(HorizontalPush));
-        m->vert = vk::ComputePipeline(device, vk::shader_spirv("flip_vertical.comp"),
-                                      VK_NULL_HANDLE, vert_b, sizeof(VerticalPush));
+        for (uint32_t mode = 0; mode < 2; ++mode) {
+            const uint32_t spec[] = {mode};
+            m->vert[mode] = vk::ComputePipeline(device, vk::shader_spirv("flip_vertical.comp"),
+                                                VK_NULL_HANDLE, vert_b, sizeof(VerticalPush), spec);
+        }
         m->horiz_set = m->horiz.allocate_set();
         constexpr VkDescriptorType kRead = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         constexpr VkDescriptorType kWrite = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
@@ -338,7 +345,7 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
                            {2, m->axes_view.get()},
                            {3, m->weights_view.get()},
                            {4, m->block_axis_view.get()}});
-        m->vert_set = m->vert.allocate_set();
+        m->vert_set = m->vert[0].allocate_set();  // used with both modes' alike layouts
         vk::DescriptorWriter(device.device(), m->vert_set).uniform_buffer(6, m->colour).commit();
         write_texel_views(device.device(), m->vert_set, kWrite,
                           {{1, m->reference_view.get()}, {2, m->map_view.get()}});
