@@ -31,13 +31,14 @@ FlipAxis flip_axis(usamplerBuffer axes, usamplerBuffer block_axis, uint block) {
 const uint kFlipSrgb = 0u;         // sRGB-encoded values (an RGBA8 UNORM upload, or floats 0..1)
 const uint kFlipDemoDisplay = 1u;  // linear HDR: the demo's display transform, 8-bit rounded
 const uint kFlipBackProject = 2u;  // a previous frame (kFlipDemoDisplay) back-projected
+const uint kFlipSrgb8 = 3u;        // kFlipSrgb from an 8-bit UNORM image (the host picks it)
 
 float flip_srgb_to_linear(float v) {
     return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
 
-// demo::tonemap (tools/demo/metrics.cpp): 1 - e^-c, sRGB encode, rounded to 8 bits.
-vec3 flip_demo_display(vec3 c) {
+// demo::tonemap (tools/demo/metrics.cpp): 1 - e^-c, sRGB encode, rounded to 8 bits: the codes.
+vec3 flip_demo_code(vec3 c) {
     vec3 s;
     for (int k = 0; k < 3; ++k) {
         if (!(c[k] > 0.0)) {
@@ -46,7 +47,9 @@ vec3 flip_demo_display(vec3 c) {
         }
         float t = 1.0 - exp(-c[k]);
         float e = t <= 0.0031308 ? 12.92 * t : 1.055 * pow(t, 1.0 / 2.4) - 0.055;
-        s[k] = floor(clamp(e * 255.0 + 0.5, 0.0, 255.0)) / 255.0;
+        s[k] = floor(clamp(e * 255.0 + 0.5, 0.0, 255.0));
     }
     return s;
 }
+
+vec3 flip_demo_display(vec3 c) { return flip_demo_code(c) / 255.0; }

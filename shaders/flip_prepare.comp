@@ -16,23 +16,32 @@ layout(std430, set = 0, binding = 2) readonly buffer Motion {
 // Written through a storage texel buffer: on llvmpipe one 16-byte store per lane, not four
 // bounds-checked scalar stores.
 layout(set = 0, binding = 3, rgba32f) uniform writeonly imageBuffer opponent;
+// The linear value of each 8-bit sRGB code (the CPU reference's, in double): a fetch instead of
+// three pow()s where the input is 8-bit codes.
+layout(set = 0, binding = 5) uniform samplerBuffer srgb_lut;
 
 layout(push_constant) uniform Push { uvec2 size; };
 // One pipeline per kind: llvmpipe runs both sides of every branch under a lane mask, so a kind
 // chosen at run time would pay for the back-projection's four fetches and transforms always.
 layout(constant_id = 0) const uint kind = kFlipSrgb;
 
-vec3 display(vec4 texel, uint k) {
-    return k == kFlipDemoDisplay ? flip_demo_display(texel.rgb) : clamp(texel.rgb, 0.0, 1.0);
+vec3 linear_of_codes(vec3 code) {
+    ivec3 i = ivec3(code);
+    return vec3(texelFetch(srgb_lut, i.r).x, texelFetch(srgb_lut, i.g).x,
+                texelFetch(srgb_lut, i.b).x);
 }
 
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(p, size))) return;
     ivec2 ip = ivec2(p);
-    vec3 srgb;
+    vec3 srgb, lin;
     float valid = 1.0;
-    if (kind == kFlipBackProject) {
+    if (kind == kFlipSrgb8) {
+        lin = linear_of_codes(floor(texelFetch(input_a, ip, 0).rgb * 255.0 + 0.5));
+    } else if (kind == kFlipDemoDisplay) {
+        lin = linear_of_codes(flip_demo_code(texelFetch(input_a, ip, 0).rgb));
+    } else if (kind == kFlipBackProject) {
         // As bench::temporal_difference: the pixel centre's previous position, bilinear between
         // texel centres, both neighbours inside; elsewhere the current pixel (no difference)
         // marked invalid.
@@ -53,9 +62,10 @@ void main() {
             valid = 0.0;
         }
     } else {
-        srgb = display(texelFetch(input_a, ip, 0), kind);
+        srgb = clamp(texelFetch(input_a, ip, 0).rgb, 0.0, 1.0);
     }
-    vec3 lin = vec3(flip_srgb_to_linear(srgb.r), flip_srgb_to_linear(srgb.g),
-                    flip_srgb_to_linear(srgb.b));
+    if (kind == kFlipSrgb || kind == kFlipBackProject)
+        lin = vec3(flip_srgb_to_linear(srgb.r), flip_srgb_to_linear(srgb.g),
+                   flip_srgb_to_linear(srgb.b));
     imageStore(opponent, int(p.y * size.x + p.x), vec4(flip_linear_rgb_to_ycxcz(lin), valid));
 }

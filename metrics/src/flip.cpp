@@ -63,11 +63,11 @@ const Vec3& white() {
     return w;
 }
 
-namespace {
-
 double srgb_to_linear(double v) {
     return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
+
+namespace {
 
 // YCxCz (Johnson & Fairchild's linearised L*a*b*): Y' = 116 y - 16, Cx = 500 (x - y),
 // Cz = 200 (y - z) on white-normalised XYZ.

@@ -12,8 +12,9 @@ using Mat3 = std::array<Vec3, 3>;  // row-major
 
 const Mat3& rgb_to_xyz();  // linear sRGB -> CIE XYZ (D65)
 const Mat3& xyz_to_rgb();
-const Vec3& white();  // XYZ of linear RGB (1, 1, 1)
-double cmax();        // the green-blue Hunt-adjusted HyAB distance to the power qc
+const Vec3& white();              // XYZ of linear RGB (1, 1, 1)
+double cmax();                    // the green-blue Hunt-adjusted HyAB distance to the power qc
+double srgb_to_linear(double v);  // the sRGB transfer function's inverse, v in [0, 1]
 inline constexpr double kQc = 0.7, kQf = 0.5;   // colour and feature exponents
 inline constexpr double kPc = 0.4, kPt = 0.95;  // redistribution: pc * cmax maps to pt
 

@@ -42,6 +42,14 @@ struct VerticalPush {
 };
 
 constexpr uint32_t kBackProject = 2;  // kFlipBackProject
+constexpr uint32_t kSrgb8 = 3;        // kFlipSrgb8: kSrgb from an 8-bit UNORM image
+constexpr uint32_t kPrepareKinds = 4;
+
+// kSrgb from an image whose texels are 8-bit codes decodes them through the LUT, exactly.
+uint32_t prepare_kind(FlipInput kind, VkFormat format) {
+    const bool unorm8 = format == VK_FORMAT_R8G8B8A8_UNORM || format == VK_FORMAT_B8G8R8A8_UNORM;
+    return kind == FlipInput::kSrgb && unorm8 ? kSrgb8 : uint32_t(kind);
+}
 
 using UniqueBufferView = vk::Unique<VkBufferView, vkDestroyBufferView>;
 
@@ -185,10 +193,11 @@ PpdField display_ppd_field(const vk::EyeDisplay& display, uint32_t width, uint32
 struct GpuFlip::Impl {
     const vk::Device* device = nullptr;
     uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0;
-    vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour;
+    vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour,
+        srgb_lut;
     UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
-        axes_view, block_axis_view;
-    vk::ComputePipeline prepare[3], horiz, vert[2];  // per FlipInput kind (+ back-projection), mode
+        axes_view, block_axis_view, srgb_lut_view;
+    vk::ComputePipeline prepare[kPrepareKinds], horiz, vert[2];  // per prepare kind, mode
     vk::LinearClampSampler sampler;
     VkDescriptorSet horiz_set = VK_NULL_HANDLE, vert_set = VK_NULL_HANDLE;
     vk::UniqueDescriptorPool prepare_pool;
@@ -204,7 +213,7 @@ struct GpuFlip::Impl {
         if (prepare_sets.size() == kPrepareSets)
             throw vk::VkError(VK_ERROR_OUT_OF_POOL_MEMORY,
                               "GPU FLIP: more than 64 distinct input images");
-        VkDescriptorSetLayout layout = prepare[0].set_layout();  // all three's are alike
+        VkDescriptorSetLayout layout = prepare[0].set_layout();  // all kinds' are alike
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = prepare_pool.get();
         ai.descriptorSetCount = 1;
@@ -219,6 +228,8 @@ struct GpuFlip::Impl {
             .commit();
         write_texel_views(device->device(), set, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER,
                           {{3, opponent_view.get()}});
+        write_texel_views(device->device(), set, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+                          {{5, srgb_lut_view.get()}});
         prepare_sets.emplace(key, set);
         return set;
     }
@@ -293,6 +304,9 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         m->axes = host_buffer(device, tables.axes, kTable);
         m->weights = host_buffer(device, tables.weights, kTable);
         m->block_axis = host_buffer(device, tables.block_axis, kTable);
+        std::vector<float> lut(256);
+        for (int i = 0; i < 256; ++i) lut[i] = float(detail::srgb_to_linear(i / 255.0));
+        m->srgb_lut = host_buffer(device, lut, kTable);
         m->opponent_view = texel_view(device, m->opponent);
         m->horizontal_view = texel_view(device, m->horizontal);
         m->reference_view = texel_view(device, m->reference);
@@ -300,6 +314,7 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         m->weights_view = texel_view(device, m->weights);
         m->axes_view = texel_view(device, m->axes, VK_FORMAT_R32G32B32A32_UINT);
         m->block_axis_view = texel_view(device, m->block_axis, VK_FORMAT_R32_UINT, 4);
+        m->srgb_lut_view = texel_view(device, m->srgb_lut, VK_FORMAT_R32_SFLOAT, 4);
         ColourGpu c{};
         fill_mat3(c.rgb_to_xyz, detail::rgb_to_xyz());
         fill_mat3(c.xyz_to_rgb, detail::xyz_to_rgb());
@@ -320,10 +335,10 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const B uniform{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER};
         const B texel{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
         const B out{VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER};
-        const B prepare_b[] = {sampled, sampled, storage, out, uniform};
+        const B prepare_b[] = {sampled, sampled, storage, out, uniform, texel};
         const B horiz_b[] = {texel, out, texel, texel, texel};
         const B vert_b[] = {texel, out, out, texel, texel, texel, uniform, texel};
-        for (uint32_t kind = 0; kind < 3; ++kind) {
+        for (uint32_t kind = 0; kind < kPrepareKinds; ++kind) {
             const uint32_t spec[] = {kind};
             m->prepare[kind] =
                 vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"), VK_NULL_HANDLE,
@@ -359,6 +374,7 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, Impl::kPrepareSets},
+            {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, Impl::kPrepareSets}};
         VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         dpi.maxSets = Impl::kPrepareSets;
@@ -387,7 +403,7 @@ uint32_t GpuFlip::height() const { return impl_->height; }
 
 void GpuFlip::record_reference(VkCommandBuffer cmd, const vk::ImageRef& image, FlipInput kind,
                                int slot) {
-    impl_->record_filter(cmd, image.view, image.view, uint32_t(kind), 0, slot);
+    impl_->record_filter(cmd, image.view, image.view, prepare_kind(kind, image.format), 0, slot);
 }
 
 void GpuFlip::record_back_projected_reference(VkCommandBuffer cmd, const vk::ImageRef& previous,
@@ -403,7 +419,7 @@ void GpuFlip::set_motion(std::span<const float> motion_px) {
 void GpuFlip::record_compare(VkCommandBuffer cmd, const vk::ImageRef& test, FlipInput kind,
                              int slot) {
     Impl& m = *impl_;
-    m.record_filter(cmd, test.view, test.view, uint32_t(kind), 1, slot, true);
+    m.record_filter(cmd, test.view, test.view, prepare_kind(kind, test.format), 1, slot, true);
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
