@@ -261,7 +261,7 @@ struct GpuFlip::Impl {
         vk::compute_barrier(cmd);
         const HorizontalPush hp{width, height, field_offset[slot]};
         horiz.bind(cmd, VK_NULL_HANDLE, horiz_set, &hp, sizeof(hp));
-        dispatch(cmd);
+        vkCmdDispatch(cmd, vk::div_up(width, 2 * kBlock), blocks_y, 1);  // two blocks wide
         timestamp(cmd, timed, 2);
         vk::compute_barrier(cmd);
         const VerticalPush vp{width, height, blocks_x, field_offset[slot],
