@@ -2,8 +2,8 @@
 // shared by shaders/flip_*.comp. The colour constants come from the CPU reference
 // (metrics/src/flip_filters.hpp) through FlipColour; the kernels per ppd level through
 // FlipAxes/FlipWeights, built by the same code the CPU reference filters with
-// (metrics/src/gpu_flip.cpp). Every pixel's ppd is uniform over the 16 x 16 block it lies in, so a
-// workgroup reads one kernel per axis.
+// (metrics/src/gpu_flip.cpp). Every pixel's ppd is uniform over the 16 x 16 block it lies in: all
+// of a block's pixels read one kernel per axis.
 
 const uint kFlipBlock = 16u;
 

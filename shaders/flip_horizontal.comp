@@ -4,9 +4,10 @@
 // achromatic channel (Y' + 16) / 116. Clamp-to-edge, like the authors' code.
 #extension GL_GOOGLE_include_directive : require
 // Four columns per invocation, each pixel's taps the left one's one column over, so every fetch of
-// the opponent plane and of the weights serves four pixels. A workgroup is two 16 x 16 blocks (8
-// invocations wide: llvmpipe runs a workgroup's rows in whole 8-lane vectors).
-layout(local_size_x = 8, local_size_y = 16) in;
+// the opponent plane and of the weights serves four pixels. The workgroup's shape is
+// gpu_flip.cpp's (several 16 x 16 blocks: each lane reads its own block's kernels; a multiple of
+// 8 invocations wide, as llvmpipe runs a workgroup's rows in whole 8-lane vectors).
+layout(local_size_x_id = 0, local_size_y_id = 1) in;
 
 #include "flip_common.glsl"
 

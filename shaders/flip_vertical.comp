@@ -5,9 +5,10 @@
 // image's filtered values as the reference; mode 1 writes FLIP against that reference (NaN where
 // the reference pixel is invalid).
 #extension GL_GOOGLE_include_directive : require
-// Two rows per invocation (a workgroup is still one 16 x 16 block): the lower pixel's taps are the
-// upper's one row down, so every fetch of the planes and of the weights serves both.
-layout(local_size_x = 16, local_size_y = 8) in;
+// Two rows per invocation: the lower pixel's taps are the upper's one row down, so every fetch of
+// the planes and of the weights serves both. The workgroup's shape is gpu_flip.cpp's (several
+// 16 x 16 blocks: each lane reads its own blocks' kernels).
+layout(local_size_x_id = 1, local_size_y_id = 2) in;
 
 #include "flip_common.glsl"
 #define FLIP_COLOUR_BINDING 6
@@ -63,8 +64,8 @@ void resolve(uint here, vec3 c, vec4 d, float valid) {
 void main() {
     uvec2 p = uvec2(gl_GlobalInvocationID.x, 2u * gl_GlobalInvocationID.y);  // and p + (0, 1)
     if (any(greaterThanEqual(p, size))) return;
-    FlipAxis column = flip_axis(axes, block_axis, block_offset + gl_WorkGroupID.x);
-    FlipAxis a = flip_axis(axes, block_axis, block_offset + blocks_x + gl_WorkGroupID.y);
+    FlipAxis column = flip_axis(axes, block_axis, block_offset + p.x / kFlipBlock);
+    FlipAxis a = flip_axis(axes, block_axis, block_offset + blocks_x + p.y / kFlipBlock);
     int last = int(size.y) - 1, y = int(p.y);
     // Even kernels (the derivative odd), paired as in flip_horizontal.comp. Pixel 0 is row y,
     // pixel 1 row y + 1 (clamped; dropped when past the last row). At tap j pixel 0 needs rows

@@ -45,6 +45,12 @@ constexpr uint32_t kBackProject = 2;  // kFlipBackProject
 constexpr uint32_t kSrgb8 = 3;        // kFlipSrgb8: kSrgb from an 8-bit UNORM image
 constexpr uint32_t kPrepareKinds = 4;
 
+// The filters' workgroups (invocations, x a multiple of llvmpipe's 8 lanes; the horizontal pass
+// does 4 columns per invocation, the vertical 2 rows): 64 x 8 and 16 x 64 pixels, long along
+// the axis filtered so each workgroup re-reads fewer apron texels than a 16 x 16 block does.
+constexpr uint32_t kHorizontalGroup[2] = {16, 8};
+constexpr uint32_t kVerticalGroup[2] = {16, 32};
+
 // kSrgb from an image whose texels are 8-bit codes decodes them through the LUT, exactly.
 uint32_t prepare_kind(FlipInput kind, VkFormat format) {
     const bool unorm8 = format == VK_FORMAT_R8G8B8A8_UNORM || format == VK_FORMAT_B8G8R8A8_UNORM;
@@ -261,13 +267,15 @@ struct GpuFlip::Impl {
         vk::compute_barrier(cmd);
         const HorizontalPush hp{width, height, field_offset[slot]};
         horiz.bind(cmd, VK_NULL_HANDLE, horiz_set, &hp, sizeof(hp));
-        vkCmdDispatch(cmd, vk::div_up(width, 2 * kBlock), blocks_y, 1);  // two blocks wide
+        vkCmdDispatch(cmd, vk::div_up(width, 4 * kHorizontalGroup[0]),
+                      vk::div_up(height, kHorizontalGroup[1]), 1);
         timestamp(cmd, timed, 2);
         vk::compute_barrier(cmd);
         const VerticalPush vp{width, height, blocks_x, field_offset[slot],
                               uint32_t(2 * slot) * width * height};
         vert[mode].bind(cmd, VK_NULL_HANDLE, vert_set, &vp, sizeof(vp));
-        dispatch(cmd);
+        vkCmdDispatch(cmd, vk::div_up(width, kVerticalGroup[0]),
+                      vk::div_up(height, 2 * kVerticalGroup[1]), 1);
         timestamp(cmd, timed, 3);
     }
 };
@@ -293,6 +301,9 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const uint64_t texels = 2 * pixels * references.size();  // the largest view
         if (texels > device.properties().limits.maxTexelBufferElements)
             return make_error("GPU FLIP: the image is too large for the device's texel buffers");
+        if (kVerticalGroup[0] * kVerticalGroup[1] >
+            device.properties().limits.maxComputeWorkGroupInvocations)
+            return make_error("GPU FLIP: the device's workgroups are smaller than the filters'");
         m->opponent = vk::Buffer(device, pixels * 16, kTexel, false);
         m->horizontal = vk::Buffer(device, pixels * 32, kTexel, false);
         m->reference = vk::Buffer(device, pixels * 32 * references.size(), kTexel, false);
@@ -344,10 +355,11 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
                 vk::ComputePipeline(device, vk::shader_spirv("flip_prepare.comp"), VK_NULL_HANDLE,
                                     prepare_b, sizeof(PreparePush), spec);
         }
-        m->horiz = vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"),
-                                       VK_NULL_HANDLE, horiz_b, sizeof(HorizontalPush));
+        m->horiz =
+            vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"), VK_NULL_HANDLE,
+                                horiz_b, sizeof(HorizontalPush), kHorizontalGroup);
         for (uint32_t mode = 0; mode < 2; ++mode) {
-            const uint32_t spec[] = {mode};
+            const uint32_t spec[] = {mode, kVerticalGroup[0], kVerticalGroup[1]};
             m->vert[mode] = vk::ComputePipeline(device, vk::shader_spirv("flip_vertical.comp"),
                                                 VK_NULL_HANDLE, vert_b, sizeof(VerticalPush), spec);
         }
