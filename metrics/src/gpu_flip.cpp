@@ -48,8 +48,10 @@ constexpr uint32_t kPrepareKinds = 4;
 // The filters' workgroups (invocations, x a multiple of llvmpipe's 8 lanes; the horizontal pass
 // does 4 columns per invocation, the vertical 2 rows): 64 x 8 and 16 x 64 pixels, long along
 // the axis filtered so each workgroup re-reads fewer apron texels than a 16 x 16 block does.
+// 128 invocations is all Vulkan guarantees: a device with fewer than 512 gets shorter vertical
+// workgroups (the shaders take any shape).
 constexpr uint32_t kHorizontalGroup[2] = {16, 8};
-constexpr uint32_t kVerticalGroup[2] = {16, 32};
+constexpr uint32_t kVerticalGroupWidth = 16, kVerticalGroupRows = 32;
 
 // kSrgb from an image whose texels are 8-bit codes decodes them through the LUT, exactly.
 uint32_t prepare_kind(FlipInput kind, VkFormat format) {
@@ -204,6 +206,7 @@ struct GpuFlip::Impl {
     UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
         axes_view, block_axis_view, srgb_lut_view;
     vk::ComputePipeline prepare[kPrepareKinds], horiz, vert[2];  // per prepare kind, mode
+    uint32_t vertical_rows = kVerticalGroupRows;  // the vertical pass's workgroup height
     vk::LinearClampSampler sampler;
     VkDescriptorSet horiz_set = VK_NULL_HANDLE, vert_set = VK_NULL_HANDLE;
     vk::UniqueDescriptorPool prepare_pool;
@@ -274,8 +277,8 @@ struct GpuFlip::Impl {
         const VerticalPush vp{width, height, blocks_x, field_offset[slot],
                               uint32_t(2 * slot) * width * height};
         vert[mode].bind(cmd, VK_NULL_HANDLE, vert_set, &vp, sizeof(vp));
-        vkCmdDispatch(cmd, vk::div_up(width, kVerticalGroup[0]),
-                      vk::div_up(height, 2 * kVerticalGroup[1]), 1);
+        vkCmdDispatch(cmd, vk::div_up(width, kVerticalGroupWidth),
+                      vk::div_up(height, 2 * vertical_rows), 1);
         timestamp(cmd, timed, 3);
     }
 };
@@ -301,9 +304,9 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         const uint64_t texels = 2 * pixels * references.size();  // the largest view
         if (texels > device.properties().limits.maxTexelBufferElements)
             return make_error("GPU FLIP: the image is too large for the device's texel buffers");
-        if (kVerticalGroup[0] * kVerticalGroup[1] >
-            device.properties().limits.maxComputeWorkGroupInvocations)
-            return make_error("GPU FLIP: the device's workgroups are smaller than the filters'");
+        m->vertical_rows =
+            std::min(kVerticalGroupRows, device.properties().limits.maxComputeWorkGroupInvocations /
+                                             kVerticalGroupWidth);
         m->opponent = vk::Buffer(device, pixels * 16, kTexel, false);
         m->horizontal = vk::Buffer(device, pixels * 32, kTexel, false);
         m->reference = vk::Buffer(device, pixels * 32 * references.size(), kTexel, false);
@@ -359,7 +362,7 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
             vk::ComputePipeline(device, vk::shader_spirv("flip_horizontal.comp"), VK_NULL_HANDLE,
                                 horiz_b, sizeof(HorizontalPush), kHorizontalGroup);
         for (uint32_t mode = 0; mode < 2; ++mode) {
-            const uint32_t spec[] = {mode, kVerticalGroup[0], kVerticalGroup[1]};
+            const uint32_t spec[] = {mode, kVerticalGroupWidth, m->vertical_rows};
             m->vert[mode] = vk::ComputePipeline(device, vk::shader_spirv("flip_vertical.comp"),
                                                 VK_NULL_HANDLE, vert_b, sizeof(VerticalPush), spec);
         }
