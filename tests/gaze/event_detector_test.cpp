@@ -127,7 +127,7 @@ std::vector<DetectorOutput> detect(const Script& s) {
     return EventDetector::detect_offline(s.in, {}, Script::kRate);
 }
 
-// Pursuit that speeds up past the peak threshold (35 deg/s against the 30 deg/s floor of a
+// Pursuit that speeds up past the peak threshold (35 deg/s against the 30 deg/s threshold of a
 // quiet tracker) and slows down again is still pursuit: a saccade is judged on the speed
 // relative to the eye's own motion just before it.
 TEST(EventDetector, FastPursuitIsNoSaccade) {

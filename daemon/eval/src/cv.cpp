@@ -18,7 +18,6 @@ std::vector<Tunable> detector_tunables() {
         {"pursuit_dps", &gaze::DetectorParams::pursuit_dps, with(d.pursuit_dps, {1.2, 1.8, 2.7})},
         {"pursuit_noise_gain", &gaze::DetectorParams::pursuit_noise_gain,
          with(d.pursuit_noise_gain, {55, 85, 130})},
-        {"min_peak_dps", &gaze::DetectorParams::min_peak_dps, with(d.min_peak_dps, {20, 30, 40})},
     };
 }
 
