@@ -1,12 +1,14 @@
 #include "control.hpp"
 
 #include <grp.h>
+#include <malloc.h>
 #include <pwd.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/asio/read_until.hpp>
 #include <boost/asio/streambuf.hpp>
 #include <boost/asio/write.hpp>
@@ -43,12 +45,27 @@ bool peer_is_admin(const PeerCredentials& peer, const char* admin_group) {
 class ControlServer::Session : public std::enable_shared_from_this<Session> {
 public:
     Session(ControlServer& server, local::socket socket)
-        : server_(server), socket_(std::move(socket)), buffer_(kMaxRequestBytes) {
+        : server_(server),
+          sessions_(server.sessions_),
+          socket_(std::move(socket)),
+          buffer_(kMaxRequestBytes) {
+        sessions_->peak = std::max(sessions_->peak, ++sessions_->live);
         ucred cred{};
         socklen_t len = sizeof cred;
         if (getsockopt(socket_.native_handle(), SOL_SOCKET, SO_PEERCRED, &cred, &len) == 0)
             peer_ = {cred.pid, cred.uid, cred.gid};
     }
+
+    ~Session() {
+        if (--sessions_->live > 0 || sessions_->peak < kTrimAfterSessions) return;
+        sessions_->peak = 0;
+#ifdef __GLIBC__
+        malloc_trim(0);
+#endif
+        ++sessions_->trims;
+    }
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
 
     void read_next() {
         auto self = shared_from_this();
@@ -92,6 +109,7 @@ private:
     }
 
     ControlServer& server_;
+    std::shared_ptr<Sessions> sessions_;
     local::socket socket_;
     asio::streambuf buffer_;
     PeerCredentials peer_;

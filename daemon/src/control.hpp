@@ -57,6 +57,10 @@ public:
 
     uint64_t requests() const { return requests_; }
     uint64_t rejected() const { return rejected_; }
+    // Connections open now, and how often the heap was handed back to the system after a burst
+    // of them (see Sessions).
+    std::size_t sessions() const { return sessions_->live; }
+    uint64_t memory_trims() const { return sessions_->trims; }
     const std::string& path() const { return path_; }
 
 private:
@@ -66,6 +70,16 @@ private:
         std::string help;
     };
     class Session;
+    // Shared with every session, so one that outlives the server (a handler still queued on the
+    // io_context) counts down something alive. When the last connection of a burst of at least
+    // kTrimAfterSessions closes, malloc_trim returns the heap their request buffers and parsed
+    // requests freed: glibc otherwise keeps it, and a 60-minute soak of 1000-connection bursts
+    // saw fovead's anonymous RSS step up from 19 to 36 MB before it levelled off.
+    struct Sessions {
+        std::size_t live = 0, peak = 0;
+        uint64_t trims = 0;
+    };
+    static constexpr std::size_t kTrimAfterSessions = 32;
     void accept_next();
 
     boost::asio::io_context& io_;
@@ -75,6 +89,7 @@ private:
     bool owns_path_ = false;
     uint64_t requests_ = 0;
     uint64_t rejected_ = 0;
+    std::shared_ptr<Sessions> sessions_ = std::make_shared<Sessions>();
 };
 
 }  // namespace fovea::daemon

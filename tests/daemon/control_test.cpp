@@ -1,8 +1,16 @@
 // The control protocol's dispatcher, without a socket: malformed input, unknown commands,
-// permission checks on mutating commands.
+// permission checks on mutating commands; and, on a real Unix socket, what a burst of
+// connections leaves behind.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <vector>
 
 #include "control.hpp"
 
@@ -79,6 +87,62 @@ TEST_F(ControlFixture, HelpListsCommands) {
     json r = server.handle_line(R"({"cmd":"help"})", stranger);
     EXPECT_TRUE(r["commands"].contains("poke"));
     EXPECT_EQ(r["commands"]["poke"], "mutating (admin)");
+}
+
+// Connects to `path` and sends `bytes` (no newline: a request still being written); -1 on failure.
+int connect_and_send(const std::string& path, const std::string& bytes) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
+    if (fd < 0 || ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL) != ssize_t(bytes.size())) {
+        if (fd >= 0) ::close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+struct ControlSocketFixture : ControlFixture {
+    std::string path = "/tmp/fovea-control-test-" + std::to_string(::getpid()) + ".sock";
+    void SetUp() override {
+        ControlFixture::SetUp();
+        ASSERT_TRUE(server.listen(path));
+    }
+    // Runs the loop until `done` or 5 s.
+    template <typename Done>
+    bool run_until(Done done) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+        while (!done() && std::chrono::steady_clock::now() < deadline)
+            io.run_for(std::chrono::milliseconds(10));
+        return done();
+    }
+};
+
+TEST_F(ControlSocketFixture, TheHeapIsTrimmedWhenTheLastConnectionOfABurstCloses) {
+    const std::string partial = "{\"cmd\":\"echo\",\"text\":\"" + std::string(8192, 'x');
+    // One connection at a time, however many, is no burst.
+    for (int i = 0; i < 40; ++i) {
+        const int fd = connect_and_send(path, partial);
+        ASSERT_GE(fd, 0);
+        ASSERT_TRUE(run_until([&] { return server.sessions() == 1; }));
+        ::close(fd);
+        ASSERT_TRUE(run_until([&] { return server.sessions() == 0; }));
+    }
+    EXPECT_EQ(server.memory_trims(), 0u);
+    // 40 open at once, then all gone: one trim, when the last one closes.
+    std::vector<int> fds;
+    for (int i = 0; i < 40; ++i) {
+        fds.push_back(connect_and_send(path, partial));
+        ASSERT_GE(fds.back(), 0);
+    }
+    ASSERT_TRUE(run_until([&] { return server.sessions() == 40; }));
+    for (size_t i = 0; i + 1 < fds.size(); ++i) ::close(fds[i]);
+    ASSERT_TRUE(run_until([&] { return server.sessions() == 1; }));
+    EXPECT_EQ(server.memory_trims(), 0u);
+    ::close(fds.back());
+    ASSERT_TRUE(run_until([&] { return server.sessions() == 0; }));
+    EXPECT_EQ(server.memory_trims(), 1u);
 }
 
 }  // namespace
