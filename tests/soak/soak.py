@@ -247,10 +247,14 @@ class Soak:
         self.t0 = time.monotonic()
 
     # ---- processes -------------------------------------------------------------------------
-    def spawn(self, args, name, **kw):
-        log = open("%s/%s.log" % (self.out, name), "ab")
-        p = subprocess.Popen(args, env=self.env, stdout=kw.pop("stdout", log),
-                             stderr=kw.pop("stderr", log), **kw)
+    def spawn(self, args, name=None, **kw):
+        """`name`: its output goes to <out>/<name>.log; without one, the caller passes stdout and
+        stderr."""
+        if name is not None:
+            with open("%s/%s.log" % (self.out, name), "ab") as log:  # the child keeps its copy
+                p = subprocess.Popen(args, env=self.env, stdout=log, stderr=log, **kw)
+        else:
+            p = subprocess.Popen(args, env=self.env, **kw)
         self.procs.append(p)
         return p
 
@@ -425,7 +429,7 @@ class Soak:
             out.write(b"\n" + READER_STARTED + b"\n")
             out.flush()
             p = self.spawn([self.fovea, "--instance", self.instance, "watch", "--wait", "30"],
-                           "%s.%d" % (name, int(time.time() * 1000)), stdout=out, stderr=out)
+                           stdout=out, stderr=out)
             if not churn:
                 self.steady.append((i, p))
                 return
@@ -495,7 +499,7 @@ class Soak:
         self.zmq_out = self.out + "/zmq.out"
         zmq_out = open(self.zmq_out, "ab")
         self.zmq = self.spawn([self.fovea, "watch", "--zmq", "tcp://127.0.0.1:%d" % zmq_port,
-                               "--wait", "30"], "zmq", stdout=zmq_out, stderr=zmq_out)
+                               "--wait", "30"], stdout=zmq_out, stderr=zmq_out)
         for i in range(8):
             threading.Thread(target=self.reader, args=(i, i >= 4), daemon=True).start()
         time.sleep(2.0)
