@@ -318,4 +318,36 @@ TEST(GazeSource, ThreadsLocatingWhileTheWriterPublishesAndRestarts) {
     EXPECT_GT(c.records, 300u);
 }
 
+TEST(GazeSource, FollowsAWriterThatReplacedAKilledOneAtTheNextLocate) {
+    // A fovead killed with -9 leaves its ring open (never marked closed); the restarted fovead
+    // unlinks it and publishes a new generation. The next locate must read the new gaze, not wait
+    // up to 100 ms for the client library's own restart check while the gaze reads as stale.
+    fovea::ring::WriterOptions w;
+    w.instance = "openxr-killed-" + std::to_string(getpid());
+    w.slot_count = 256;
+    auto killed = std::move(fovea::ring::RingWriter::create(w)).value();
+    auto publish = [](fovea::ring::RingWriter& writer, float deg) {
+        fovea_gaze_record r{};
+        r.t_capture_ns = monotonic_now_ns();
+        r.combined.valid = FOVEA_VALID;
+        r.combined.deg_x = deg;
+        writer.publish(r);
+        return r.t_capture_ns;
+    };
+    GazeSourceOptions o;
+    o.instance = w.instance;
+    GazeSource src(o);
+    int64_t t = 0;
+    for (int i = 0; i < 5; ++i) t = publish(killed, 1);
+    ASSERT_TRUE(src.at(t).tracked());
+    ASSERT_TRUE(src.at(t).tracked());  // nothing new: the library's 100 ms check starts now
+    auto restarted = std::move(fovea::ring::RingWriter::create(w)).value();
+    publish(restarted, 7);
+    t = publish(restarted, 7);
+    const GazeEstimate e = src.at(t);
+    EXPECT_TRUE(e.tracked());
+    EXPECT_EQ(e.t_newest_ns, t);
+    EXPECT_EQ(src.counters().restarts, 1u);
+}
+
 }  // namespace

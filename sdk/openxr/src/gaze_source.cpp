@@ -92,7 +92,13 @@ void GazeSource::poll(int64_t now) {
         if (head > cursor_ + 512) cursor_ = head - 512;
         uint32_t n = 0;
         uint64_t dropped = 0;
-        const int s = fovea_client_read(client_, &cursor_, batch, 64, &n, &dropped);
+        int s = fovea_client_read(client_, &cursor_, batch, 64, &n, &dropped);
+        // Nothing new: ask now (one fstat) whether fovead was restarted. The read asks by itself
+        // only every 100 ms, and until then a restarted fovead's fresh gaze would read as stale.
+        if ((s == FOVEA_OK && n == 0) || s == FOVEA_E_NO_DATA) {
+            if (fovea_client_check(client_) == FOVEA_E_WRITER_RESTARTED)
+                s = FOVEA_E_WRITER_RESTARTED;
+        }
         if (s == FOVEA_E_WRITER_RESTARTED) {
             ++counters_.restarts;
             log_info("fovead instance '%s' restarted: following its new ring",
