@@ -334,7 +334,21 @@ CheckReport evaluate(const CheckRun& run, const CheckLimits& limits) {
             ++rep.probes;
             if (const auto ref = ref_at(refs, f.probe_ns)) {
                 ++rep.probes_compared;
-                if (ref->valid != f.probe_valid) ++rep.validity_mismatches;
+                if (ref->valid != f.probe_valid && rep.validity_mismatches++ == 0) {
+                    const auto hi =
+                        std::upper_bound(refs.begin(), refs.end(), f.probe_ns,
+                                         [](int64_t v, const Ref& r) { return v < r.t; });
+                    char b[256];
+                    std::snprintf(
+                        b, sizeof b,
+                        "frame %zu: probe %s, ring %s; ring neighbours %+.3f ms %s, "
+                        "%+.3f ms %s; newest read %+.3f ms",
+                        k, f.probe_valid ? "valid" : "invalid", ref->valid ? "valid" : "untracked",
+                        ((hi - 1)->t - f.probe_ns) / 1e6, (hi - 1)->valid ? "valid" : "untracked",
+                        (hi->t - f.probe_ns) / 1e6, hi->valid ? "valid" : "untracked",
+                        (f.newest_capture_ns - f.probe_ns) / 1e6);
+                    rep.first_validity_mismatch = b;
+                }
                 if (!ref->valid) ++rep.blink_probes;
                 if (ref->valid && f.probe_valid) {
                     probe_err.push_back(openxr::angle_deg(vec(f.probe_dir), ref->d));
@@ -379,7 +393,9 @@ CheckReport evaluate(const CheckRun& run, const CheckLimits& limits) {
              std::to_string(limits.max_angle_error_deg) + ")");
     if (rep.validity_mismatches > 0)
         fail(std::to_string(rep.validity_mismatches) +
-             " matching-time poses were valid where the ring says untracked, or the reverse");
+             " matching-time poses were valid where the ring says untracked, or the reverse "
+             "(first: " +
+             rep.first_validity_mismatch + ")");
     if (rep.saccade_layer_lag_frames_max > 0)
         fail("a saccade already in the ring took " +
              std::to_string(rep.saccade_layer_lag_frames_max) + " more frames to show in the pose");

@@ -66,6 +66,7 @@ struct CheckReport {
     int frames = 0, valid_frames = 0, invalid_frames = 0;
     int longest_invalid_run = 0, valid_after_longest_invalid_run = 0, invalid_runs = 0;
     int probes = 0, probes_compared = 0, validity_mismatches = 0, blink_probes = 0;
+    std::string first_validity_mismatch;  // the probe and its ring neighbours, for the failure
     double max_angle_error_deg = 0, median_angle_error_deg = 0;
     double max_local_error_deg = 0;
     double median_gaze_age_ms = 0, p95_gaze_age_ms = 0;
