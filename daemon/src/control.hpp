@@ -73,8 +73,8 @@ private:
     // Shared with every session, so one that outlives the server (a handler still queued on the
     // io_context) counts down something alive. When the last connection of a burst of at least
     // kTrimAfterSessions closes, malloc_trim returns the heap their request buffers and parsed
-    // requests freed: glibc otherwise keeps it, and a 60-minute soak of 1000-connection bursts
-    // saw fovead's anonymous RSS step up from 19 to 36 MB before it levelled off.
+    // requests freed: glibc otherwise keeps it, and fovead's RSS would stay at the high-water
+    // mark of the largest burst it ever served.
     struct Sessions {
         std::size_t live = 0, peak = 0;
         uint64_t trims = 0;

@@ -335,9 +335,9 @@ CheckReport evaluate(const CheckRun& run, const CheckLimits& limits) {
             if (const auto ref = ref_at(refs, f.probe_ns)) {
                 ++rep.probes_compared;
                 if (ref->valid != f.probe_valid && rep.validity_mismatches++ == 0) {
-                    const auto hi =
-                        std::upper_bound(refs.begin(), refs.end(), f.probe_ns,
-                                         [](int64_t v, const Ref& r) { return v < r.t; });
+                    auto hi = std::upper_bound(refs.begin(), refs.end(), f.probe_ns,
+                                               [](int64_t v, const Ref& r) { return v < r.t; });
+                    if (hi == refs.end()) --hi;  // the probe at the newest sample (as ref_at)
                     char b[256];
                     std::snprintf(
                         b, sizeof b,
