@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fovea/import/pupil_datum.hpp"
+#include "pupil/pupil_remote.hpp"
 
 namespace fovea::drivers::pupil {
 
@@ -33,7 +34,9 @@ BusMessage decode_bus_message(const std::vector<std::string>& frames, double min
 
 uint64_t host_ticks(double pupil_time_s, double offset_s) {
     const double host_ns = (pupil_time_s - offset_s) * 1e9;
-    return host_ns > 0 && host_ns < 9.2e18 ? static_cast<uint64_t>(std::llround(host_ns)) : 0;
+    return host_ns > 0 && host_ns < kMaxTimeSeconds * 1e9
+               ? static_cast<uint64_t>(std::llround(host_ns))
+               : 0;
 }
 
 }  // namespace fovea::drivers::pupil

@@ -59,13 +59,12 @@ std::string quoted(std::string_view reply) {
 }  // namespace
 
 Result<double> parse_time_reply(std::string_view reply) {
-    // Samples carry 64-bit ns ticks: a time beyond them (or an offset summed from such times)
-    // would map every sample to 0.
-    constexpr double kMaxSeconds = 9.2e9;
+    // A time beyond kMaxTimeSeconds (or an offset summed from such times) would map every sample
+    // to 0.
     const std::string text(reply);  // strtod needs the terminator
     char* end = nullptr;
     const double t = std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || !(std::fabs(t) <= kMaxSeconds))
+    if (end == text.c_str() || !(std::fabs(t) <= kMaxTimeSeconds))
         return make_error("'t' answered " + quoted(reply) + ", not a time");
     return t;
 }

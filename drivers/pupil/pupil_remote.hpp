@@ -34,8 +34,11 @@ struct ClockOffset {
 };
 std::optional<ClockOffset> estimate_offset(std::vector<RoundTrip> trips);
 
-// Pupil Remote's answers, as bytes from the network. "t": Pupil time in seconds, |t| <= 9.2e9
-// (what 64-bit ns ticks hold; text after the number is ignored).
+// The largest Pupil or host time in seconds a sample can carry: samples hold 64-bit ns ticks.
+constexpr double kMaxTimeSeconds = 9.2e9;
+
+// Pupil Remote's answers, as bytes from the network. "t": Pupil time in seconds, |t| <=
+// kMaxTimeSeconds (text after the number is ignored).
 Result<double> parse_time_reply(std::string_view reply);
 // "SUB_PORT": the bus port; the bus is at the Remote's host on that port
 // ("tcp://host:50020" + "50021" -> "tcp://host:50021").
