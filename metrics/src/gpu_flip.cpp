@@ -221,7 +221,8 @@ struct GpuFlip::Impl {
         if (auto it = prepare_sets.find(key); it != prepare_sets.end()) return it->second;
         if (prepare_sets.size() == kPrepareSets)
             throw vk::VkError(VK_ERROR_OUT_OF_POOL_MEMORY,
-                              "GPU FLIP: more than 64 distinct input images");
+                              "GPU FLIP: more than 64 distinct input images since "
+                              "forget_inputs()");
         VkDescriptorSetLayout layout = prepare[0].set_layout();  // all kinds' are alike
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = prepare_pool.get();
@@ -440,6 +441,13 @@ void GpuFlip::record_compare(VkCommandBuffer cmd, const vk::ImageRef& test, Flip
     mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
                          1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void GpuFlip::forget_inputs() {
+    Impl& m = *impl_;
+    if (m.prepare_sets.empty()) return;
+    VK_CHECK(vkResetDescriptorPool(m.device->device(), m.prepare_pool.get(), 0));
+    m.prepare_sets.clear();
 }
 
 std::span<const float> GpuFlip::map() const {

@@ -259,6 +259,28 @@ TEST(FlipGpu, BackProjectedReferenceFollowsTheMotionAndDropsPixelsThatLeave) {
     FOVEA_EXPECT_NO_VALIDATION_ERRORS();
 }
 
+// A bench sweep renders each configuration into new images: forgetting the inputs between
+// configurations keeps the cached input sets from running out (64) or outliving their views.
+TEST(FlipGpu, InputsForgottenBetweenConfigurationsNeverRunOutOfSets) {
+    FOVEA_REQUIRE_DEVICE();
+    constexpr uint32_t w = 32, h = 32;
+    const std::vector<float> ra = random_hdr(w, h, 5), rb = random_hdr(w, h, 6);
+    auto flip = GpuFlip::create(*device, w, h, {PpdField::uniform(w, h, 40.0)});
+    ASSERT_TRUE(flip) << flip.error().message;
+    std::vector<float> first;
+    for (int config = 0; config < 80; ++config) {
+        const vk::Image ga = upload_rgba16f(*device, w, h, ra),
+                        gb = upload_rgba16f(*device, w, h, rb);
+        const std::vector<float> map =
+            gpu_compare(*device, *flip, ga.ref(), gb.ref(), FlipInput::kDemoDisplay);
+        if (config == 0) first = map;
+        ASSERT_EQ(std::memcmp(map.data(), first.data(), map.size() * sizeof(float)), 0)
+            << "configuration " << config;
+        flip->forget_inputs();
+    }
+    FOVEA_EXPECT_NO_VALIDATION_ERRORS();
+}
+
 TEST(FlipGpu, RejectsFieldsItCannotRun) {
     FOVEA_REQUIRE_DEVICE();
     PpdField bumpy = PpdField::uniform(32, 32, 40.0);

@@ -73,6 +73,10 @@ public:
     void record_compare(VkCommandBuffer cmd, const vk::ImageRef& test, FlipInput kind,
                         int slot = 0);
 
+    // Forgets the input images recorded so far (their descriptor sets). Call before their
+    // views are destroyed, e.g. between a bench's configurations: at most 64 distinct (input,
+    // fill) image pairs are kept, and recording a 65th fails. No recorded use may be in flight.
+    void forget_inputs();
     // After the recorded compare completed: the map, row-major (NaN where not pooled), and the
     // GPU milliseconds of the compare's passes (0 where the device has no timestamps).
     std::span<const float> map() const;
