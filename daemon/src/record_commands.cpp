@@ -45,7 +45,8 @@ json stats_json(const record::RecorderStats& s) {
               {"latency_samples", s.latency_samples},
               {"dropped_samples", s.dropped_samples},
               {"bytes", s.bytes_written},
-              {"flushes", s.flushes}};
+              {"flushes", s.flushes},
+              {"buffer_bytes", s.buffer_bytes}};
     if (s.failed) j["error"] = s.error;
     return j;
 }

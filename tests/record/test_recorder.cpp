@@ -1,4 +1,6 @@
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <csignal>
@@ -180,6 +182,59 @@ TEST(Recorder, DiskFullMidRecordingReportsOnceAndTheCallerKeepsGoing) {
     EXPECT_GT(f->find(kRawStreamName)->sample_count(), 0u);
     auto rep = xdf::repair(path);
     ASSERT_TRUE(rep.ok()) << rep.error().message;
+}
+
+TEST(Recorder, QueueGrownWhileTheDiskStalledIsGivenBackOnceTheWriterCatchesUp) {
+    // A real stall: the recording is a FIFO nobody reads, so write() blocks once the pipe is
+    // full and the queue grows; then a reader drains it. The queue must shrink back to what the
+    // sample rate needs instead of keeping the stall's high-water mark for the whole recording.
+    const auto dir = test::scratch_dir("stall");
+    const std::string path = (dir / "stall.fifo").string();
+    ASSERT_EQ(mkfifo(path.c_str(), 0600), 0);
+    const int reader = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    ASSERT_GE(reader, 0);
+    auto rec = Recorder::start(options(path));
+    ASSERT_TRUE(rec.ok()) << rec.error().message;
+    const int64_t t0 = monotonic_ns();
+    constexpr int kBurst = 40000;
+    for (int i = 0; i < kBurst; ++i) {
+        (*rec)->push_raw(synthetic_raw(i, t0), true);
+        const auto g = synthetic_gaze(i, t0);
+        (*rec)->push_gaze(g, g.t_processed_ns, static_cast<uint64_t>(i));
+    }
+    // let the writer swap the burst in and block on the full pipe
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const uint64_t stalled = (*rec)->stats().buffer_bytes;
+    EXPECT_GT(stalled, 10u << 20) << "a 40 000-sample burst queued less than 10 MiB?";
+
+    std::atomic<bool> draining{true};
+    std::thread drain([&] {
+        fcntl(reader, F_SETFL, 0);
+        char buf[1 << 16];
+        while (::read(reader, buf, sizeof buf) > 0) {}
+        draining = false;
+    });
+    // then 1 kHz for 30 flush intervals: the queue needs ~20 samples per flush
+    for (int i = kBurst; i < kBurst + 600; ++i) {
+        (*rec)->push_raw(synthetic_raw(i, t0), true);
+        const auto g = synthetic_gaze(i, t0);
+        (*rec)->push_gaze(g, g.t_processed_ns, static_cast<uint64_t>(i));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while ((*rec)->stats().raw_samples < kBurst + 600u &&
+           std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a few more flushes
+    const auto s = (*rec)->stats();
+    EXPECT_EQ(s.raw_samples, kBurst + 600u);
+    EXPECT_EQ(s.dropped_samples, 0u);
+    EXPECT_LT(s.buffer_bytes, 2u << 20)
+        << "kept " << s.buffer_bytes << " bytes after a stall of " << stalled;
+    ASSERT_TRUE((*rec)->stop().ok());
+    drain.join();
+    ::close(reader);
+    EXPECT_FALSE(draining.load());
 }
 
 TEST(Recorder, KillDashNineLosesAtMostTheLastFlushAndRepairClosesTheFile) {

@@ -119,22 +119,27 @@ def dump_stacks(pid, path):
 
 
 def probe_status(sock, csv_path, t0, stop, restarting, bursting, daemon_pid):
-    """Asks for status every 100 ms and writes `t_s,ms,bursting,error` per request. It runs in
-    its own process: among the harness's threads its timing would include waits for Python's
-    GIL (the abuser builds a quarter of a GiB of requests per burst), not only fovead's answer."""
+    """Asks for status every 100 ms and writes `t_s,ms,bursting,record_buffer_kb,error` per
+    request (record_buffer_kb: the memory the recorder's queue holds, one known source of RSS
+    steps). It runs in its own process: among the harness's threads its timing would include
+    waits for Python's GIL (the abuser builds a quarter of a GiB of requests per burst), not only
+    fovead's answer."""
     dumped = False
     with open(csv_path, "w", buffering=1) as out:
-        out.write("t_s,ms,bursting,error\n")
+        out.write("t_s,ms,bursting,record_buffer_kb,error\n")
         while not stop.is_set():
             t = time.monotonic()
             error = ""
+            buffer_kb = -1
             try:
-                request(sock, {"cmd": "status"}, timeout=5.0)
-            except (OSError, ValueError) as e:
+                reply = request(sock, {"cmd": "status"}, timeout=5.0)
+                buffer_kb = int(reply.get("recording", {}).get("buffer_bytes", -1024)) // 1024
+            except (OSError, ValueError, AttributeError) as e:
                 error = (str(e) or type(e).__name__).replace(",", ";")
             ms = (time.monotonic() - t) * 1000.0
             if not (error and restarting.is_set()):  # no daemon to answer while it restarts
-                out.write("%.3f,%.2f,%d,%s\n" % (t - t0, ms, bursting.is_set(), error))
+                out.write("%.3f,%.2f,%d,%d,%s\n" % (t - t0, ms, bursting.is_set(), buffer_kb,
+                                                     error))
             if error and not restarting.is_set() and not dumped:
                 dumped = True
                 dump_stacks(daemon_pid.value, os.path.dirname(csv_path) + "/fovead.stacks.txt")
@@ -651,8 +656,8 @@ class Soak:
 
     # ---- checks ----------------------------------------------------------------------------
     def check_status_latency(self):
-        rows = [r.split(",", 3) for r in open(self.status_csv).read().splitlines()[1:]]
-        for t, _, _, error in rows:
+        rows = [r.split(",", 4) for r in open(self.status_csv).read().splitlines()[1:]]
+        for t, _, _, _, error in rows:
             if error:
                 self.fail("status request failed at %s s: %s" % (t, error))
 
@@ -663,7 +668,11 @@ class Soak:
             p99 = ms[min(len(ms) - 1, int(0.99 * len(ms)))]
             return p99, "%d requests, p50 %.1f ms, p99 %.1f ms, max %.1f ms" % (
                 len(ms), ms[len(ms) // 2], p99, ms[-1])
-        answered = [(float(ms), b == "1") for _, ms, b, error in rows if not error]
+        answered = [(float(ms), b == "1") for _, ms, b, _, error in rows if not error]
+        buffer_kb = [int(kb) for _, _, _, kb, error in rows if not error and int(kb) >= 0]
+        if buffer_kb:
+            print("recorder queue: max %d kB, %d kB at the end (status.csv record_buffer_kb)"
+                  % (max(buffer_kb), buffer_kb[-1]))
         p99, line = percentiles([ms for ms, _ in answered])
         print("status: %s (timeline: %s)" % (line, self.status_csv))
         print("status during abuse bursts: %s" % percentiles([m for m, b in answered if b])[1])

@@ -1,8 +1,10 @@
 #include "fovea/record/recorder.hpp"
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -23,6 +25,15 @@ std::string hostname() {
     if (gethostname(b, sizeof b - 1) != 0) return {};
     return b;
 }
+
+std::size_t capacity_bytes(const std::vector<double>& stamps, const std::vector<double>& rows) {
+    return (stamps.capacity() + rows.capacity()) * sizeof(double);
+}
+
+// A queue half keeps the capacity of a few flushes at the current rate, and at least this many
+// samples (a flush interval at 16 kHz), so that steady recording never reallocates.
+constexpr std::size_t kKeepSamples = 4096;
+constexpr std::size_t kTrimAfterBytes = std::size_t{1} << 20;
 
 bool write_all(int fd, const uint8_t* p, std::size_t n, int& err) {
     while (n > 0) {
@@ -174,6 +185,9 @@ bool Recorder::write_pending(bool final) {
             swap_[i].rows.clear();
             std::swap(swap_[i], pending_[i]);
         }
+        std::size_t bytes = 0;
+        for (const auto& p : swap_) bytes += capacity_bytes(p.stamps, p.rows);
+        swap_bytes_.store(bytes, std::memory_order_relaxed);
     }
     auto drop_swapped = [this] {
         for (const auto& p : swap_) dropped_.fetch_add(p.stamps.size(), std::memory_order_relaxed);
@@ -235,11 +249,29 @@ bool Recorder::write_pending(bool final) {
         written_[i].store(streams_[i].written, std::memory_order_relaxed);
     }
     flushes_.fetch_add(1, std::memory_order_relaxed);
+    release_spare_capacity();
     if (boundary && ::fdatasync(fd_) != 0 && errno != EINVAL) {
         fail("cannot sync recording", errno);
         return false;
     }
     return true;
+}
+
+// A disk that stalls for a few seconds lets the queue grow to seconds of samples. Once the
+// writer has caught up, a half that holds far more than the rate needs is freed (and the heap
+// trimmed), so the stall's high-water mark is not kept for the rest of the recording.
+void Recorder::release_spare_capacity() {
+    std::size_t released = 0, kept = 0;
+    for (auto& p : swap_) {
+        const std::size_t keep = std::max(kKeepSamples, 4 * p.stamps.size());
+        if (p.stamps.capacity() > keep) {
+            released += capacity_bytes(p.stamps, p.rows);
+            p = Pending{};
+        }
+        kept += capacity_bytes(p.stamps, p.rows);
+    }
+    swap_bytes_.store(kept, std::memory_order_relaxed);
+    if (released >= kTrimAfterBytes) malloc_trim(0);
 }
 
 void Recorder::writer_main() {
@@ -287,7 +319,9 @@ RecorderStats Recorder::stats() const {
         std::lock_guard lock(mutex_);
         s.error = error_;
         s.recording = !stop_requested_ && !s.failed;
+        for (const auto& p : pending_) s.buffer_bytes += capacity_bytes(p.stamps, p.rows);
     }
+    s.buffer_bytes += swap_bytes_.load(std::memory_order_relaxed);
     s.raw_samples = written_[kRaw].load(std::memory_order_relaxed);
     s.gaze_samples = written_[kGaze].load(std::memory_order_relaxed);
     s.latency_samples = written_[kLatency].load(std::memory_order_relaxed);

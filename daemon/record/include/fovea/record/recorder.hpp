@@ -50,6 +50,7 @@ struct RecorderStats {
     uint64_t dropped_samples = 0;  // queue full or after a write error
     uint64_t bytes_written = 0;
     uint64_t flushes = 0;
+    uint64_t buffer_bytes = 0;  // memory the sample queue holds (capacity, both halves)
     int64_t started_ns = 0;
 };
 
@@ -96,6 +97,7 @@ private:
     bool write_bytes(const std::vector<uint8_t>& bytes);
     void fail(const std::string& what, int err);
     void push_row(int stream, double stamp, const double* row, int channels);
+    void release_spare_capacity();
 
     RecorderOptions options_;
     int fd_ = -1;
@@ -110,7 +112,8 @@ private:
     std::atomic<uint64_t> bytes_{0};
     std::atomic<uint64_t> flushes_{0};
     std::atomic<uint64_t> written_[3] = {0, 0, 0};
-    std::string error_;  // guarded by mutex_
+    std::atomic<uint64_t> swap_bytes_{0};  // capacity of swap_, for stats()
+    std::string error_;                    // guarded by mutex_
 
     // writer-thread state
     StreamState streams_[3];
