@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 
 namespace fovea::daemon {
@@ -30,15 +31,28 @@ Result<json> control_request(const std::string& socket_path, const json& request
     const std::string out = request.dump() + "\n";
     if (::send(fd, out.data(), out.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(out.size()))
         return make_error(std::string("send: ") + std::strerror(errno), errno);
+    // One deadline for the whole reply (a server trickling bytes cannot hold the caller), and a
+    // bounded reply (one that never ends its line cannot exhaust the caller's memory).
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     std::string in;
     char buf[4096];
-    while (in.find('\n') == std::string::npos) {
+    std::size_t scanned = 0;
+    while (in.find('\n', scanned) == std::string::npos) {
+        scanned = in.size();
+        if (in.size() > kMaxControlReplyBytes)
+            return make_error("reply from " + socket_path + " over " +
+                              std::to_string(kMaxControlReplyBytes) + " bytes without a newline");
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
         pollfd p{fd, POLLIN, 0};
-        const int r = ::poll(&p, 1, timeout_ms);
+        const int r = left.count() > 0 ? ::poll(&p, 1, static_cast<int>(left.count())) : 0;
         if (r == 0)
             return make_error("no reply from " + socket_path + " within " +
                               std::to_string(timeout_ms) + " ms");
-        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            return make_error(std::string("poll: ") + std::strerror(errno), errno);
+        }
         const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
         if (n <= 0) return make_error("connection closed by " + socket_path);
         in.append(buf, static_cast<std::size_t>(n));

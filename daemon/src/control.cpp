@@ -77,9 +77,7 @@ public:
 private:
     void on_line(boost::system::error_code ec, std::size_t n) {
         if (ec == asio::error::not_found) {  // streambuf full without a newline
-            ++server_.rejected_;
-            spdlog::get("daemon")->warn("control: request over {} bytes from pid {}; closing",
-                                        kMaxRequestBytes, peer_.pid);
+            server_.refuse_oversize(peer_.pid);
             reply_and_close({{"ok", false}, {"error", "request too large"}});
             return;
         }
@@ -128,6 +126,27 @@ ControlServer::ControlServer(asio::io_context& io) : io_(io) {
 }
 
 ControlServer::~ControlServer() { close(); }
+
+void ControlServer::refuse_oversize(int pid) {
+    ++rejected_;
+    const auto now = std::chrono::steady_clock::now();
+    if (rejected_ > 1 && now - oversize_logged_ < std::chrono::seconds(1)) {
+        ++oversize_unlogged_;
+        return;
+    }
+    oversize_logged_ = now;
+    auto log = spdlog::get("daemon");
+    if (!log) log = spdlog::default_logger();
+    if (oversize_unlogged_ == 0) {
+        log->warn("control: request over {} bytes from pid {}; closing", kMaxRequestBytes, pid);
+    } else {
+        log->warn(
+            "control: request over {} bytes from pid {}; closing ({} more since the last "
+            "such line)",
+            kMaxRequestBytes, pid, oversize_unlogged_);
+    }
+    oversize_unlogged_ = 0;
+}
 
 Result<void> ControlServer::listen(const std::string& path) {
     if (path.size() >= sizeof(sockaddr_un{}.sun_path))

@@ -8,6 +8,7 @@
 
 #include <sys/types.h>
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -81,6 +82,9 @@ private:
     };
     static constexpr std::size_t kTrimAfterSessions = 32;
     void accept_next();
+    // Counts a refused oversize request and logs it, at most one line a second (a flood would
+    // otherwise write a line per connection); the next line says how many went unlogged.
+    void refuse_oversize(int pid);
 
     boost::asio::io_context& io_;
     std::unique_ptr<boost::asio::local::stream_protocol::acceptor> acceptor_;
@@ -89,6 +93,8 @@ private:
     bool owns_path_ = false;
     uint64_t requests_ = 0;
     uint64_t rejected_ = 0;
+    uint64_t oversize_unlogged_ = 0;
+    std::chrono::steady_clock::time_point oversize_logged_{};
     std::shared_ptr<Sessions> sessions_ = std::make_shared<Sessions>();
 };
 

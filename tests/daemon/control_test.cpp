@@ -10,7 +10,11 @@
 #include <chrono>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "control.hpp"
 
@@ -143,6 +147,33 @@ TEST_F(ControlSocketFixture, TheHeapIsTrimmedWhenTheLastConnectionOfABurstCloses
     ::close(fds.back());
     ASSERT_TRUE(run_until([&] { return server.sessions() == 0; }));
     EXPECT_EQ(server.memory_trims(), 1u);
+}
+
+TEST_F(ControlSocketFixture, AFloodOfOversizeRequestsIsLoggedOnceASecondWithACount) {
+    auto sink = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(100);
+    auto previous = spdlog::get("daemon");
+    spdlog::drop("daemon");
+    spdlog::register_logger(std::make_shared<spdlog::logger>("daemon", sink));
+    const std::string oversize(ControlServer::kMaxRequestBytes + 1, 'x');
+    const auto flood = [&](int n) {
+        const uint64_t before = server.rejected();
+        for (int i = 0; i < n; ++i) {
+            const int fd = connect_and_send(path, oversize);
+            ASSERT_GE(fd, 0);
+            ASSERT_TRUE(run_until([&] { return server.rejected() == before + i + 1; }));
+            ::close(fd);
+        }
+    };
+    flood(30);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    flood(1);
+    const std::vector<std::string> lines = sink->last_formatted();
+    spdlog::drop("daemon");
+    if (previous) spdlog::register_logger(previous);
+    EXPECT_EQ(server.rejected(), 31u);
+    ASSERT_EQ(lines.size(), 2u) << "a line per refused request, or none";
+    EXPECT_NE(lines[0].find("request over 65536 bytes"), std::string::npos) << lines[0];
+    EXPECT_NE(lines[1].find("(29 more since the last such line)"), std::string::npos) << lines[1];
 }
 
 }  // namespace
