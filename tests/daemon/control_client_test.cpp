@@ -61,13 +61,11 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 TEST(ControlClient, AReplyThatNeverEndsItsLineIsRefusedAtTheLimit) {
     BadServer server([](int fd) {
         const std::string chunk(1 << 16, 'x');
-        while (::send(fd, chunk.data(), chunk.size(), MSG_NOSIGNAL) > 0) {
-        }
+        while (::send(fd, chunk.data(), chunk.size(), MSG_NOSIGNAL) > 0) {}
     });
     auto r = control_request(server.path(), {{"cmd", "status"}}, 20000);
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().message.find("without a newline"), std::string::npos)
-        << r.error().message;
+    EXPECT_NE(r.error().message.find("without a newline"), std::string::npos) << r.error().message;
 }
 
 TEST(ControlClient, ATricklingServerCannotHoldTheCallerPastItsTimeout) {

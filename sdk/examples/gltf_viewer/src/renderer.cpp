@@ -78,15 +78,11 @@ struct Renderer::Impl {
     uint32_t view_stride = 0, slot = 0;
     // By colour views (the forward pass's fourth is null): a depth image and framebuffer.
     std::map<std::array<VkImageView, 4>, std::pair<Image, Framebuffer>> targets;
-    VkQueryPool queries = VK_NULL_HANDLE;
+    QueryPool queries;
     uint32_t queries_used = 0;
     double timestamp_ms = 0.0;
 
     explicit Impl(const Gpu& g) : gpu(g), submit(g) {}
-
-    ~Impl() {
-        if (queries) vkDestroyQueryPool(gpu.device, queries, nullptr);
-    }
 
     template <typename T>
     Buffer upload_buffer(const std::vector<T>& data, VkBufferUsageFlags usage) {
@@ -590,7 +586,9 @@ Renderer::Renderer(const Gpu& gpu, const SceneFile& scene, const CpuScene& conte
         VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
         qi.queryCount = 2 * kMaxViews;
-        GLTFV_CHECK(vkCreateQueryPool(gpu.device, &qi, nullptr, &m.queries));
+        VkQueryPool query_pool = VK_NULL_HANDLE;
+        GLTFV_CHECK(vkCreateQueryPool(gpu.device, &qi, nullptr, &query_pool));
+        m.queries = QueryPool(gpu.device, query_pool);
     }
 }
 
@@ -599,9 +597,9 @@ Renderer::~Renderer() = default;
 void Renderer::begin_frame() {
     Impl& m = *impl_;
     m.timestamp_ms = 0.0;
-    if (m.queries && m.queries_used > 0) {
+    if (m.queries.get() && m.queries_used > 0) {
         std::vector<uint64_t> ts(m.queries_used);
-        if (vkGetQueryPoolResults(m.gpu.device, m.queries, 0, m.queries_used,
+        if (vkGetQueryPoolResults(m.gpu.device, m.queries.get(), 0, m.queries_used,
                                   ts.size() * sizeof(uint64_t), ts.data(), sizeof(uint64_t),
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
             VkPhysicalDeviceProperties props;
@@ -626,9 +624,9 @@ void Renderer::record_pass(VkCommandBuffer cmd, bool gbuffer, std::array<VkImage
     const VkRenderPass pass = gbuffer ? m.gbuffer_pass.get() : m.forward_pass.get();
     const VkFramebuffer fb = m.framebuffer(pass, colors, extent);
     const uint32_t q = m.queries_used;
-    if (m.queries && q + 2 <= 2 * kMaxViews) {
-        vkCmdResetQueryPool(cmd, m.queries, q, 2);
-        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, m.queries, q);
+    if (m.queries.get() && q + 2 <= 2 * kMaxViews) {
+        vkCmdResetQueryPool(cmd, m.queries.get(), q, 2);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, m.queries.get(), q);
     }
     const uint32_t n_colors = gbuffer ? 4 : 3;
     VkClearValue clear[5] = {};
@@ -656,8 +654,8 @@ void Renderer::record_pass(VkCommandBuffer cmd, bool gbuffer, std::array<VkImage
     }
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRenderPass(cmd);
-    if (m.queries && q + 2 <= 2 * kMaxViews) {
-        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m.queries, q + 1);
+    if (m.queries.get() && q + 2 <= 2 * kMaxViews) {
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m.queries.get(), q + 1);
         m.queries_used = q + 2;
     }
 }

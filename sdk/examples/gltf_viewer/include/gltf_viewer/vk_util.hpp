@@ -67,6 +67,7 @@ using RenderPass = Handle<VkRenderPass, vkDestroyRenderPass>;
 using Framebuffer = Handle<VkFramebuffer, vkDestroyFramebuffer>;
 using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 using Fence = Handle<VkFence, vkDestroyFence>;
+using QueryPool = Handle<VkQueryPool, vkDestroyQueryPool>;
 
 // The device objects the viewer's helpers need.
 struct Gpu {
