@@ -1,5 +1,7 @@
 #include "zmq_config.hpp"
 
+#include "fovea/drivers/support.hpp"
+
 namespace fovea::daemon {
 namespace {
 
@@ -26,7 +28,7 @@ Result<ZmqConfig> parse_zmq_config(const toml::table& t, const std::string& orig
     if (auto r = read_endpoint(t, "publish", "tcp://127.0.0.1:50020", origin, c.publish); !r)
         return r.error();
     if (const toml::node* n = t.get("send_hwm")) {
-        auto v = n->value<int64_t>();
+        auto v = drivers::toml_value<int64_t>(*n);
         if (!v || *v < 1 || *v > 100'000'000)
             return make_error(origin + ": zmq.send_hwm: must be an integer in [1, 100000000]");
         c.send_hwm = static_cast<int>(*v);

@@ -39,6 +39,14 @@ port = "/dev/ttyACM0"
     EXPECT_EQ(c->devices[1]["port"].value_or(std::string()), "/dev/ttyACM0");
 }
 
+TEST(DaemonConfig, AnIntegerKeyGivenAFloatBeyondEveryIntegerIsAClearError) {
+    // The fuzzer's find: toml++ casts such a float to int64 (undefined behaviour).
+    auto c =
+        parse_config("[zmq]\npublish = \"tcp://127.0.0.1:50020\"\nsend_hwm = 3.3e53\n", "x.toml");
+    ASSERT_FALSE(c.ok());
+    EXPECT_NE(c.error().message.find("zmq.send_hwm"), std::string::npos) << c.error().message;
+}
+
 TEST(DaemonConfig, SyntaxErrorNamesLineAndColumn) {
     auto c = parse_config("instance = \n", "bad.toml");
     ASSERT_FALSE(c.ok());

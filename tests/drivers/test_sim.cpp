@@ -418,6 +418,12 @@ TEST(SimDriver, BadConfigIsAClearError) {
     r = make_driver(toml::table{{"seed", "abc"}}, 0);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("seed"), std::string::npos);
+    // A float beyond any integer (toml++ itself would cast it: undefined, found by the fuzzer).
+    for (double huge : {3.3e53, -1e300, 9.3e18}) {
+        r = make_driver(toml::table{{"seed", huge}}, 0);
+        ASSERT_FALSE(r.ok()) << huge;
+        EXPECT_NE(r.error().message.find("seed"), std::string::npos);
+    }
 }
 
 TEST(SimDriver, RegisteredAsTheDefaultDriver) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -38,12 +39,25 @@ inline std::shared_ptr<spdlog::logger> driver_logger(const std::string& name) {
     return l;
 }
 
+// node.value<T>(), except that a float outside int64's range is no integer: toml++ 3 casts it
+// to int64 unchecked (undefined behaviour for `seed = 1e300`).
+template <typename T>
+std::optional<T> toml_value(const toml::node& node) {
+    if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+        if (const auto* f = node.as_floating_point()) {
+            const double d = f->get();
+            if (!(d >= -9.2e18 && d <= 9.2e18)) return std::nullopt;
+        }
+    }
+    return node.value<T>();
+}
+
 // Read an optional key of type T; a present key of the wrong type is an error naming it.
 template <typename T>
 Result<void> read_key(const char* driver, const toml::table& t, const char* key, T& out) {
     const toml::node* node = t.get(key);
     if (!node) return {};
-    const auto v = node->value<T>();
+    const auto v = toml_value<T>(*node);
     if (!v) return make_error(std::string(driver) + ": key '" + key + "' has the wrong type");
     out = *v;
     return {};
@@ -76,7 +90,9 @@ private:
 
 // A USB vendor or product id from config: an integer or a hex string ("046d", "0x046d").
 inline std::optional<uint16_t> parse_usb_id(const toml::node_view<const toml::node>& v) {
-    if (auto i = v.value<int64_t>(); i && *i >= 0 && *i <= 0xFFFF) return static_cast<uint16_t>(*i);
+    if (v.node() == nullptr) return std::nullopt;
+    if (auto i = toml_value<int64_t>(*v.node()); i && *i >= 0 && *i <= 0xFFFF)
+        return static_cast<uint16_t>(*i);
     if (auto s = v.value<std::string>()) {
         try {
             std::size_t used = 0;
