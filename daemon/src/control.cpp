@@ -18,6 +18,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "fovea/drivers/support.hpp"
+
 namespace fovea::daemon {
 
 namespace asio = boost::asio;
@@ -129,23 +131,12 @@ ControlServer::~ControlServer() { close(); }
 
 void ControlServer::refuse_oversize(int pid) {
     ++rejected_;
-    const auto now = std::chrono::steady_clock::now();
-    if (rejected_ > 1 && now - oversize_logged_ < std::chrono::seconds(1)) {
-        ++oversize_unlogged_;
-        return;
+    if (!oversize_log_) {
+        auto log = spdlog::get("daemon");
+        oversize_log_ = std::make_unique<drivers::LogLimiter>(log ? log : spdlog::default_logger());
     }
-    oversize_logged_ = now;
-    auto log = spdlog::get("daemon");
-    if (!log) log = spdlog::default_logger();
-    if (oversize_unlogged_ == 0) {
-        log->warn("control: request over {} bytes from pid {}; closing", kMaxRequestBytes, pid);
-    } else {
-        log->warn(
-            "control: request over {} bytes from pid {}; closing ({} more since the last "
-            "such line)",
-            kMaxRequestBytes, pid, oversize_unlogged_);
-    }
-    oversize_unlogged_ = 0;
+    oversize_log_->warn("control: request over " + std::to_string(kMaxRequestBytes) +
+                        " bytes from pid " + std::to_string(pid) + "; closing");
 }
 
 Result<void> ControlServer::listen(const std::string& path) {

@@ -8,7 +8,6 @@
 
 #include <sys/types.h>
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -21,6 +20,10 @@
 
 #include "control_client.hpp"
 #include "fovea/result.hpp"
+
+namespace fovea::drivers {
+class LogLimiter;
+}
 
 namespace fovea::daemon {
 
@@ -93,8 +96,7 @@ private:
     bool owns_path_ = false;
     uint64_t requests_ = 0;
     uint64_t rejected_ = 0;
-    uint64_t oversize_unlogged_ = 0;
-    std::chrono::steady_clock::time_point oversize_logged_{};
+    std::unique_ptr<drivers::LogLimiter> oversize_log_;  // made at the first refusal
     std::shared_ptr<Sessions> sessions_ = std::make_shared<Sessions>();
 };
 
