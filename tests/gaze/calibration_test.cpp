@@ -1,6 +1,7 @@
 #include "fovea/gaze/calibration.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -85,7 +86,8 @@ TEST(Calibration, TooFewTargetsIsAnError) {
 TEST(Calibration, SaveLoadRoundTripsAndUserPathRejectsTricks) {
     Result<CalibrationQuality> q = make_error("unset");
     const Calibration c = calibrated(false, &q);
-    const auto dir = std::filesystem::temp_directory_path() / "fovea_calib_test";
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("fovea_calib_test." + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     auto path = Calibration::user_path(dir.string(), "alice");
     ASSERT_TRUE(path.ok());

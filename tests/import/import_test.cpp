@@ -1,6 +1,7 @@
 // fovea::import on small texts written to pin one behaviour each, then on every real file of
 // ../shared/data that the readers cover, with counts taken independently of the readers.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -378,7 +379,9 @@ TEST(ImportPldata, ResyncsOverGarbageReordersAndReportsACutRecord) {
 // A recording folder with gaze.pldata (3 datums) and a gaze_timestamps.npy of `version` and
 // `shape` holding their 3 time stamps.
 Read read_gaze_folder_with_npy(uint8_t version, const std::string& shape = "(3,)") {
-    const fs::path dir = fs::temp_directory_path() / "fovea_import_npy";
+    // Per process: ctest runs the tests that call this side by side (-j2).
+    const fs::path dir =
+        fs::temp_directory_path() / ("fovea_import_npy." + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::string pldata, values;
