@@ -3,12 +3,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "fovea/gaze/pipeline.hpp"
 #include "fovea/record/offline.hpp"
+#include "fovea/record/plot.hpp"
 #include "fovea/record/recorder.hpp"
 #include "fovea/record/report.hpp"
 #include "sim/sim_tracker.hpp"
@@ -203,6 +205,26 @@ TEST(Export, CsvRowsEqualWhatWasPublished) {
     const auto raw = read_csv((dir / "csv" / "FoveaRawGaze.csv").string());
     EXPECT_EQ(raw[0][1], "device_ticks");
     EXPECT_EQ(raw.size(), 3001u);
+}
+
+// A latency percentile of 0 on a log axis sits at -inf: every drawing call must stay defined
+// (the ASan tree's float-cast-overflow check found the report casting it to int).
+TEST(Plot, ValuesOffALogAxisOrNotFiniteDrawNothingAndCastNothingUndefined) {
+    Plot p(320, 200, "t", "x", "y");
+    p.set_x(1, 1000, true);
+    p.set_y(0, 10);
+    const double inf = std::numeric_limits<double>::infinity();
+    for (double x : {0.0, -5.0, inf, -inf, std::nan("")}) {
+        EXPECT_TRUE(std::isfinite(p.px(x))) << x;
+        p.vline(x, {200, 0, 0}, "p50");
+        p.xspan(x, 10, {0, 0, 200});
+        p.bars({x}, {x}, {5}, {0, 200, 0});
+        p.line({x, 10}, {1, std::nan("")}, {0, 0, 0});
+        p.points({x}, {x}, {0, 0, 0});
+    }
+    EXPECT_TRUE(std::isfinite(p.py(inf)));
+    const Canvas& c = p.finish();
+    EXPECT_EQ(c.width(), 320);
 }
 
 TEST(Report, WritesHtmlAndEveryPlot) {

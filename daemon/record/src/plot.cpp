@@ -142,15 +142,21 @@ void Plot::set_y(double lo, double hi, bool log) {
     ylog_ = log;
 }
 
+// A position far off the canvas (0 on a log axis is -inf) or undefined (NaN) becomes a finite
+// one off the canvas, so that every later cast to int is defined.
+static double off_canvas_if_not_finite(double p) {
+    return std::isnan(p) ? -1e6 : std::clamp(p, -1e6, 1e6);
+}
 double Plot::px(double x) const {
     const double a = xlog_ ? std::log10(x0_) : x0_, b = xlog_ ? std::log10(x1_) : x1_;
     const double v = xlog_ ? std::log10(x) : x;
-    return left_ + (v - a) / (b - a) * (canvas_.width() - left_ - right_);
+    return off_canvas_if_not_finite(left_ + (v - a) / (b - a) * (canvas_.width() - left_ - right_));
 }
 double Plot::py(double y) const {
     const double a = ylog_ ? std::log10(y0_) : y0_, b = ylog_ ? std::log10(y1_) : y1_;
     const double v = ylog_ ? std::log10(y) : y;
-    return canvas_.height() - bottom_ - (v - a) / (b - a) * (canvas_.height() - top_ - bottom_);
+    return off_canvas_if_not_finite(canvas_.height() - bottom_ -
+                                    (v - a) / (b - a) * (canvas_.height() - top_ - bottom_));
 }
 
 void Plot::line(const std::vector<double>& xs, const std::vector<double>& ys, Rgb c,
