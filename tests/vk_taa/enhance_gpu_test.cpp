@@ -98,43 +98,15 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
     if (!std::getenv("FOVEA_POST_COST")) GTEST_SKIP() << "set FOVEA_POST_COST=1 to measure";
     const int w = 1920, h = 1080;
     const Image colour = testing::texture(w, h, 1.5f);
-    Image rate(w, h, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            rate.at(x, y) = std::min(1.0f, std::hypot(x - w / 2.0f, y - h / 2.0f) / 600.0f);
-    // Process CPU time (every driver thread) swings far less with the machine's load than the
-    // wall time; both are printed.
-    const auto cpu_ms = [] {
-        timespec ts{};
-        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-        return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-    };
-    Image tile_rate(w, h, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float r = std::hypot(x / 16 * 16 + 8 - w / 2.0f, y / 16 * 16 + 8 - h / 2.0f);
-            tile_rate.at(x, y) = r < 200.0f ? 0.0f : (r < 450.0f ? 0.5f : 1.0f);
-        }
+    const Image rate = vk::testing::cost_rate_smooth(w, h),
+                tile_rate = vk::testing::cost_rate_tiles(w, h);
     double cpu_per_frame = 0;
     auto measure = [&](PostPass& pass, PassRunner& run, const Image& s_t = Image()) {
         run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f),
                        s_t.data.empty() ? rate : s_t);
-        run.run(pass, 1);  // warm-up
-        std::vector<double> ms, cpu;
-        for (int i = 0; i < 3; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const double c0 = cpu_ms();
-            run.run(pass, 2);
-            cpu.push_back((cpu_ms() - c0) / 2.0);
-            ms.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count() /
-                2.0);
-        }
-        std::sort(ms.begin(), ms.end());
-        std::sort(cpu.begin(), cpu.end());
-        cpu_per_frame = cpu[1];
-        return ms[1];
+        const vk::testing::PassCost c = vk::testing::measure_pass_cost(run, pass, 3);
+        cpu_per_frame = c.cpu_ms[1];
+        return c.wall_ms[1];
     };
     PassRunner r1(*device_, {uint32_t(w), uint32_t(h)}, {});
     auto taa = make_taa_pass();

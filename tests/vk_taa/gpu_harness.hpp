@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <memory>
 #include <optional>
 #include <string>
@@ -179,5 +182,53 @@ private:
     std::array<float, 2> jitter_{0.f, 0.f};
     std::optional<EyeDisplay> display_;
 };
+
+// The S_t fields the 1080p cost benchmarks run on: growing with eccentricity (smooth), and per
+// centred 16x16 tile, 0 / 0.5 / 1 (as cps quantizes it).
+inline post::Image cost_rate_smooth(int w, int h) {
+    post::Image r(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            r.at(x, y) = std::min(1.0f, std::hypot(x - w / 2.0f, y - h / 2.0f) / 600.0f);
+    return r;
+}
+inline post::Image cost_rate_tiles(int w, int h) {
+    post::Image r(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float d = std::hypot(x / 16 * 16 + 8 - w / 2.0f, y / 16 * 16 + 8 - h / 2.0f);
+            r.at(x, y) = d < 200.0f ? 0.0f : (d < 450.0f ? 0.5f : 1.0f);
+        }
+    return r;
+}
+
+// Per-frame milliseconds of `batches` runs of 2 frames of `pass` after one warm-up frame, each
+// list sorted: wall time, and the process CPU time (every driver thread), which swings far less
+// with the machine's load. A measurement for benchmarks, never a pass/fail threshold.
+struct PassCost {
+    std::vector<double> wall_ms, cpu_ms;
+};
+inline PassCost measure_pass_cost(PassRunner& run, PostPass& pass, int batches) {
+    const auto process_cpu_ms = [] {
+        timespec ts{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+        return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+    };
+    run.run(pass, 1);  // warm-up
+    PassCost c;
+    for (int i = 0; i < batches; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const double c0 = process_cpu_ms();
+        run.run(pass, 2);
+        c.cpu_ms.push_back((process_cpu_ms() - c0) / 2.0);
+        c.wall_ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count() /
+            2.0);
+    }
+    std::sort(c.wall_ms.begin(), c.wall_ms.end());
+    std::sort(c.cpu_ms.begin(), c.cpu_ms.end());
+    return c;
+}
 
 }  // namespace fovea::vk::testing

@@ -243,42 +243,19 @@ TEST_F(GpuTaa, CostAt1080p) {
     if (!std::getenv("FOVEA_POST_COST")) GTEST_SKIP() << "set FOVEA_POST_COST=1 to measure";
     const int w = 1920, h = 1080;
     const Image colour = testing::texture(w, h, 1.5f);
-    Image smooth(w, h, 1), tiles(w, h, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            smooth.at(x, y) = std::min(1.0f, std::hypot(x - w / 2.0f, y - h / 2.0f) / 600.0f);
-            const float r = std::hypot(x / 16 * 16 + 8 - w / 2.0f, y / 16 * 16 + 8 - h / 2.0f);
-            tiles.at(x, y) = r < 200.0f ? 0.0f : (r < 450.0f ? 0.5f : 1.0f);
-        }
-    const auto cpu_ms = [] {
-        timespec ts{};
-        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-        return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-    };
+    const Image smooth = vk::testing::cost_rate_smooth(w, h),
+                tiles = vk::testing::cost_rate_tiles(w, h);
     for (const Image* rate : {&smooth, &tiles}) {
         PassRunner run(*device_, {uint32_t(w), uint32_t(h)}, {});
         auto pass = make_taa_pass();
         ASSERT_TRUE(run.init(*pass).ok());
         run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), *rate);
-        run.run(*pass, 1);  // warm-up
-        std::vector<double> wall, cpu;
-        for (int i = 0; i < 7; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const double c0 = cpu_ms();
-            run.run(*pass, 2);
-            cpu.push_back((cpu_ms() - c0) / 2.0);
-            wall.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count() /
-                2.0);
-        }
-        std::sort(wall.begin(), wall.end());
-        std::sort(cpu.begin(), cpu.end());
+        const vk::testing::PassCost c = vk::testing::measure_pass_cost(run, *pass, 7);
         std::printf(
             "taa at %dx%d on %s, S_t %s: %.1f ms/frame wall (%.1f..%.1f), process CPU %.1f ms "
             "(%.1f..%.1f)\n",
-            w, h, device_->name().c_str(), rate == &smooth ? "smooth" : "per 16x16 tile", wall[3],
-            wall[0], wall[6], cpu[3], cpu[0], cpu[6]);
+            w, h, device_->name().c_str(), rate == &smooth ? "smooth" : "per 16x16 tile",
+            c.wall_ms[3], c.wall_ms[0], c.wall_ms[6], c.cpu_ms[3], c.cpu_ms[0], c.cpu_ms[6]);
     }
 }
 
