@@ -350,8 +350,10 @@ TEST(GazepointDriverLive, ReconnectsAfterServerRestarts50TimesWithoutLeaks) {
         // Every record sent before the restart arrived.
         ASSERT_TRUE(wait_for([&] { return col.count() == sent; }, 500ms))
             << "cycle " << cycle << ": " << col.count() << "/" << sent;
+        // While disconnected the driver keeps retrying, so one connect socket may be open at
+        // either count; a socket leaked per restart would show as ~48 more.
         if (cycle == 1) fds_first = open_fd_count();
-        if (cycle == 49) { EXPECT_EQ(open_fd_count(), fds_first); }
+        if (cycle == 49) { EXPECT_LE(open_fd_count(), fds_first + 1); }
         server_loop.sync([&] {
             server = std::make_unique<SimServer>(server_loop.io, opt);
             ASSERT_TRUE(server->start().ok());
