@@ -33,6 +33,16 @@ set(FOVEA_GLSL_CONTRACT
     ${PROJECT_SOURCE_DIR}/shaders/fovea_check.shade.comp
     CACHE INTERNAL "GLSL files installed for hosts")
 fovea_target_defaults(fovea_vk)
+# Debian's glslang is built without RTTI, so UBSan's vptr check, which needs the typeinfo of every
+# polymorphic class it sees, cannot link against TShader/TProgram: the one file that uses them
+# goes without that check (it keeps the rest of UBSan and ASan).
+if(FOVEA_SANITIZE MATCHES "address")
+    target_sources(fovea_vk PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/sanitizer/keep_drivers_loaded.cpp)
+endif()
+if(FOVEA_SANITIZE MATCHES "undefined")
+    set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/vk/shader_compiler.cpp
+        PROPERTIES COMPILE_OPTIONS -fno-sanitize=vptr)
+endif()
 # Vulkan structs are initialised as `VkFooInfo info{VK_STRUCTURE_TYPE_FOO_INFO};` (the rest zero).
 target_compile_options(fovea_vk PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wno-missing-field-initializers>)
 
