@@ -33,12 +33,14 @@ set(FOVEA_GLSL_CONTRACT
     ${PROJECT_SOURCE_DIR}/shaders/fovea_check.shade.comp
     CACHE INTERNAL "GLSL files installed for hosts")
 fovea_target_defaults(fovea_vk)
-# Debian's glslang is built without RTTI, so UBSan's vptr check, which needs the typeinfo of every
-# polymorphic class it sees, cannot link against TShader/TProgram: the one file that uses them
-# goes without that check (it keeps the rest of UBSan and ASan).
+# Only in AddressSanitizer trees: the drivers the loader opens stay mapped until exit, so LSan can
+# tell their heap from ours (the file says why).
 if(FOVEA_SANITIZE MATCHES "address")
     target_sources(fovea_vk PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/sanitizer/keep_drivers_loaded.cpp)
 endif()
+# Debian's glslang is built without RTTI, so UBSan's vptr check, which needs the typeinfo of every
+# polymorphic class it sees, cannot link against TShader/TProgram: the one file that uses them
+# goes without that check (it keeps the rest of UBSan and ASan).
 if(FOVEA_SANITIZE MATCHES "undefined")
     set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/vk/shader_compiler.cpp
         PROPERTIES COMPILE_OPTIONS -fno-sanitize=vptr)

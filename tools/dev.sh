@@ -39,14 +39,14 @@ build_targets() {  # dir, targets...
 }
 
 # What each sanitizer tree runs, as ctest -L / -LE regular expressions over a test's labels (one
-# comma-joined label per test, e.g. "integration,daemon"). ASan+UBSan: the whole labelled suite
+# comma-joined label per test, e.g. "integration,daemon"). ASan+UBSan: the whole labelled suite,
+# the Vulkan side included (libfovea_vk, the demo, the bench, GPU FLIP on lavapipe; in that tree
+# libfovea_vk keeps the drivers the loader opens mapped: sdk/sanitizer/keep_drivers_loaded.cpp),
 # except the slow runs (their CI variants are labelled without "slow"), the packaging scripts
 # (they install and package the tree; what runs in them is built against the install without the
-# sanitizer) and the soak (it times a
-# release fovead against fixed budgets; it runs once, alone, in build/main). The Vulkan side is
-# in it (libfovea_vk, the demo, the bench, GPU FLIP on lavapipe; in that tree libfovea_vk keeps
-# the drivers the loader opens mapped: sdk/sanitizer/keep_drivers_loaded.cpp). TSan: the code that
-# runs threads against each other: ring, daemon (calibration included), client.
+# sanitizer) and the soak (it times a release fovead against fixed budgets; it runs once, alone,
+# in build/main). TSan: the code that runs threads against each other: ring, daemon (calibration
+# included), client.
 asan_labels='.'
 asan_exclude='slow|packaging|soak'
 tsan_labels='ring|daemon'
