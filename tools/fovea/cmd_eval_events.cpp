@@ -34,6 +34,7 @@ struct Options {
     std::string dump_dir;
     double lookahead_ms = gaze::DetectorParams{}.lookahead_s * 1e3;
     std::vector<std::string> detector;  // KEY=VALUE overrides of DetectorParams
+    std::vector<std::string> cv_pin;    // fitted constants the folds keep at the shipped value
     int threads = 0;
 };
 
@@ -303,7 +304,7 @@ int run(const Options& o) {
     std::vector<const eval::FoldResult*> folds(set->datasets.size(), nullptr);
     eval::CvResult cv;
     if (!o.cv.empty()) {
-        cv = eval::run_cv(set->datasets, params, detect, threads);
+        cv = eval::run_cv(set->datasets, params, detect, threads, o.cv_pin);
         for (size_t d = 0; d < set->datasets.size(); ++d) {
             folds[d] = &cv.folds[d];
             in_sample[d] = cv.folds[d].in_sample;
@@ -404,6 +405,9 @@ void setup(CLI::App& app) {
     app.add_option("--detector", o->detector,
                    "KEY=VALUE: override one detector constant for this run (repeatable; "
                    "with --cv it replaces the shipped value that 'in sample' scores)");
+    app.add_option("--cv-pin", o->cv_pin,
+                   "KEY: with --cv, do not fit this constant; every fold keeps the shipped "
+                   "value (or --detector's) (repeatable)");
     app.add_option("--threads", o->threads, "Worker threads (default: one per core)");
     app.callback([o] {
         const int rc = run(*o);

@@ -85,9 +85,12 @@ DatasetScore evaluate(const Dataset& d, const gaze::DetectorParams& params, cons
 }
 
 CvResult run_cv(const std::vector<Dataset>& datasets, const gaze::DetectorParams& base,
-                const DetectFn& detect_fn, int threads) {
+                const DetectFn& detect_fn, int threads, const std::vector<std::string>& pinned) {
     CvResult out;
     out.tunables = detector_tunables();
+    std::erase_if(out.tunables, [&](const Tunable& t) {
+        return std::find(pinned.begin(), pinned.end(), t.name) != pinned.end();
+    });
     for (const Tunable& t : out.tunables) out.shipped.push_back(base.*t.field);
     const std::vector<Candidate> cands = candidates(out.tunables, base);
     out.candidates = cands.size();

@@ -39,6 +39,7 @@ constexpr Field kFields[] = {
     {"pursuit_dps", &DetectorParams::pursuit_dps},
     {"pursuit_ref_window_s", &DetectorParams::pursuit_ref_window_s},
     {"pursuit_noise_gain", &DetectorParams::pursuit_noise_gain},
+    {"pursuit_span_exponent", &DetectorParams::pursuit_span_exponent},
     {"noise_prior_deg", &DetectorParams::noise_prior_deg},
     {"noise_prior_samples", &DetectorParams::noise_prior_samples},
     {"min_pursuit_window_s", &DetectorParams::min_pursuit_window_s},

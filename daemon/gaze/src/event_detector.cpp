@@ -573,10 +573,13 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
     }
     const double speed = window_speed(lo, hi);
     // Fixational drift behaves like a random walk, so its apparent speed falls as the window
-    // grows while pursuit keeps its speed: the threshold scales as 1/sqrt(window).
-    // Noisier recordings drift more in appearance too: the floor rises with position noise.
-    const double base = std::max(p_.pursuit_dps, p_.pursuit_noise_gain * noise_);
-    double threshold = base * std::sqrt(p_.pursuit_ref_window_s / span);
+    // grows while pursuit keeps its speed: the threshold scales as 1/sqrt(window)
+    // (pursuit_span_exponent; 1 makes pursuit_dps x ref a bound on the fixation's displacement,
+    // tried in daemon/eval/README.md, not shipped). Noisier recordings drift more in appearance
+    // too: the floor rises with position noise, always as 1/sqrt(window).
+    const double ref = p_.pursuit_ref_window_s / span;
+    double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent),
+                                p_.pursuit_noise_gain * noise_ * std::sqrt(ref));
     if (was_pursuit) threshold *= p_.pursuit_hysteresis;
     e.label = speed > threshold ? Label::kPursuit : Label::kFixation;
 }

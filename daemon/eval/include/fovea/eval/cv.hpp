@@ -52,11 +52,14 @@ struct CvResult {
 };
 
 // `base` carries everything but the tunables (mode, look-ahead...). Detection per recording:
-// `detect_fn` (defaults to eval::detect).
+// `detect_fn` (defaults to eval::detect). Tunables named in `pinned` are not fitted: every
+// fold keeps base's value (to score a setting that makes a constant physiological or
+// measured per recording); an unknown name is ignored.
 using DetectFn =
     std::function<std::vector<gaze::Event>(const Recording&, const gaze::DetectorParams&)>;
 CvResult run_cv(const std::vector<Dataset>& datasets, const gaze::DetectorParams& base,
-                const DetectFn& detect_fn, int threads = 2);
+                const DetectFn& detect_fn, int threads = 2,
+                const std::vector<std::string>& pinned = {});
 
 // Every recording of a dataset through detect_fn on `threads` threads (one event per sample
 // per recording), and the same scored.

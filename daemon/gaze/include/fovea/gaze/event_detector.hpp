@@ -91,6 +91,9 @@ struct DetectorParams {
     double pursuit_dps = 1.8;             // speed threshold for a window of ref length
     double pursuit_ref_window_s = 0.4;
     double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
+    // pursuit_dps scales as (ref / span)^this; 0.5 = random-walk drift (the noise floor keeps
+    // 0.5 whatever this is). 1 (a bound on displacement) was tried, daemon/eval/README.md.
+    double pursuit_span_exponent = 0.5;
     // Online: prior for the position noise (a typical video tracker's; daemon/gaze/README.md),
     // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
