@@ -47,10 +47,17 @@ struct Floor {
 };
 
 const Floor kOffline[] = {
-    {"img", "saccade", 0.85, true},   {"dots", "saccade", 0.78, true},
-    {"video", "saccade", 0.84, true}, {"img", "fixation", 0.75, true},
-    {"dots", "fixation", 0.55, true}, {"video", "fixation", 0.55, true},
-    {"img", "pso", 0.65, true},       {"dots", "pso", 0.60, true},
+    {"img", "saccade", 0.85, true},
+    {"dots", "saccade", 0.78, true},
+    {"video", "saccade", 0.84, true},
+    {"img", "fixation", 0.75, true},
+    {"dots", "fixation", 0.55, true},
+    // Video fixation: .559 in sample with the fitted 1/sqrt(span) speed threshold (target .55),
+    // .524 (in sample = held out) with the 1-deg displacement bound shipped 2026-12-06, which
+    // generalizes (held out .489 before; daemon/eval/README.md): the floor is .524 - .02.
+    {"video", "fixation", 0.50, false},
+    {"img", "pso", 0.65, true},
+    {"dots", "pso", 0.60, true},
     {"video", "pso", 0.63, true},
 };
 
@@ -73,7 +80,7 @@ TEST_F(Lund2013, OfflineKappaMeetsTargetsOrRegressionFloors) {
 }
 
 // At the default look-ahead (350 ms, the smallest bound that keeps every event within 0.05;
-// 300 ms loses 0.07 on dots fixations). At 100 ms the fixation/pursuit split loses 0.05-0.25
+// 300 ms loses 0.06 on dots fixations). At 100 ms the fixation/pursuit split loses 0.02-0.23
 // kappa, saccades and PSO do not (their thresholds learn at stage 2, so they do not depend on
 // the look-ahead at all).
 TEST_F(Lund2013, OnlineAtDefaultLookaheadWithinFiveHundredthsOfOffline) {

@@ -356,6 +356,7 @@ int run(const Options& o) {
                 j["cv"]["grid"][cv.tunables[t].name] = cv.tunables[t].grid;
             }
             j["cv"]["candidates"] = cv.candidates;
+            for (const auto& [name, value] : cv.pinned) j["cv"]["pinned"][name] = value;
         }
         std::printf("%s\n", j.dump().c_str());
         return 0;
@@ -379,6 +380,8 @@ int run(const Options& o) {
                 std::printf(" w/o %s %g", f.dataset.c_str(), f.fitted[t]);
             std::printf("\n");
         }
+        for (const auto& [name, value] : cv.pinned)
+            std::printf("  %-22s pinned %g in every fold (--cv-pin)\n", name.c_str(), value);
     }
     return 0;
 }

@@ -572,10 +572,10 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
         return;
     }
     const double speed = window_speed(lo, hi);
-    // Fixational drift behaves like a random walk, so its apparent speed falls as the window
-    // grows while pursuit keeps its speed: the threshold scales as 1/sqrt(window)
-    // (pursuit_span_exponent; 1 makes pursuit_dps x ref a bound on the fixation's displacement,
-    // tried in daemon/eval/README.md, not shipped). Noisier recordings drift more in appearance
+    // A fixation stays within a bounded area (anti-persistent drift), so its apparent speed
+    // falls as the window grows while pursuit keeps its speed: the threshold scales as
+    // 1/window (pursuit_span_exponent 1), i.e. pursuit_dps x ref (1 deg by default) bounds the
+    // fixation's displacement over the window. Noisier recordings drift more in appearance
     // too: the floor rises with position noise, always as 1/sqrt(window).
     const double ref = p_.pursuit_ref_window_s / span;
     double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent),

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fovea/eval/dataset.hpp"
@@ -49,6 +50,8 @@ struct CvResult {
     std::vector<double> fit_all;    // the choice on all human-labelled datasets
     std::vector<FoldResult> folds;  // one per dataset (peers too: scored, never fitted on)
     size_t candidates = 0;
+    // Tunables left out by `pinned` (run_cv) and the value every fold used: base's.
+    std::vector<std::pair<std::string, double>> pinned;
 };
 
 // `base` carries everything but the tunables (mode, look-ahead...). Detection per recording:

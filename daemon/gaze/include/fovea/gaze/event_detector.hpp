@@ -88,12 +88,19 @@ struct DetectorParams {
     double pso_peak_fraction = 1.0;  // ... or above this x the saccade's peak, if lower  // PSO:
                                      // velocity above this x onset threshold
     double smooth_half_window_s = 0.400;  // pursuit speed window, +-400 ms within a segment
-    double pursuit_dps = 1.8;             // speed threshold for a window of ref length
+    // Pursuit is a window that moves farther than a fixation may: speed threshold for a window
+    // of ref length, scaled as (ref / span)^pursuit_span_exponent. The defaults (2.5 deg/s x
+    // 0.4 s, exponent 1) make it a bound on displacement: 1 deg over the window, whatever its
+    // span (unless the noise floor below is higher), the dispersion threshold usually cited for
+    // I-DT (Salvucci & Goldberg 2000; Blignaut 2009 found about 1 deg best). A literature
+    // constant, not fitted (daemon/eval/README.md).
+    // Exponent 0.5 (random-walk drift; with 1.8 deg/s the detector before 2026-12-06) gives a
+    // speed that falls as 1/sqrt(span) instead.
+    double pursuit_dps = 2.5;
     double pursuit_ref_window_s = 0.4;
     double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
-    // pursuit_dps scales as (ref / span)^this; 0.5 = random-walk drift (the noise floor keeps
-    // 0.5 whatever this is). 1 (a bound on displacement) was tried, daemon/eval/README.md.
-    double pursuit_span_exponent = 0.5;
+    // The noise floor keeps 1/sqrt(span) whatever this is.
+    double pursuit_span_exponent = 1.0;
     // Online: prior for the position noise (a typical video tracker's; daemon/gaze/README.md),
     // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
