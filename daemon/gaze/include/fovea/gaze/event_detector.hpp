@@ -93,8 +93,7 @@ struct DetectorParams {
     // 0.4 s, exponent 1) make it a bound on displacement: 1 deg over the window, whatever its
     // span (unless the noise floor below is higher), the dispersion threshold usually cited for
     // I-DT (Salvucci & Goldberg 2000; Blignaut 2009 found about 1 deg best). A literature
-    // constant, not fitted (daemon/eval/README.md).
-    // Exponent 0.5 (random-walk drift; with 1.8 deg/s the detector before 2026-12-06) gives a
+    // constant, not fitted (daemon/eval/README.md). Exponent 0.5 (random-walk drift) gives a
     // speed that falls as 1/sqrt(span) instead.
     double pursuit_dps = 2.5;
     double pursuit_ref_window_s = 0.4;
