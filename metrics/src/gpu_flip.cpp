@@ -59,20 +59,6 @@ uint32_t prepare_kind(FlipInput kind, VkFormat format) {
     return kind == FlipInput::kSrgb && unorm8 ? kSrgb8 : uint32_t(kind);
 }
 
-using UniqueBufferView = vk::Unique<VkBufferView, vkDestroyBufferView>;
-
-// A uniform texel buffer view of all of `buffer` (the shaders read every buffer this way: on
-// llvmpipe a texel fetch is one vector gather, an SSBO load a per-lane loop of scalar loads).
-UniqueBufferView texel_view(const vk::Device& d, const vk::Buffer& buffer,
-                            VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT,
-                            VkDeviceSize texel_bytes = 16) {
-    VkBufferViewCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-    bi.buffer = buffer.get();
-    bi.format = format;
-    bi.range = buffer.size() / texel_bytes * texel_bytes;
-    return vk::create_handle<UniqueBufferView>(d.device(), vkCreateBufferView, bi);
-}
-
 // Texel buffer descriptors: uniform (read) or storage (written).
 void write_texel_views(VkDevice device, VkDescriptorSet set, VkDescriptorType type,
                        std::initializer_list<std::pair<uint32_t, VkBufferView>> views) {
@@ -203,7 +189,7 @@ struct GpuFlip::Impl {
     uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0;
     vk::Buffer opponent, horizontal, reference, map, motion, axes, weights, block_axis, colour,
         srgb_lut;
-    UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
+    vk::UniqueBufferView opponent_view, horizontal_view, reference_view, map_view, weights_view,
         axes_view, block_axis_view, srgb_lut_view;
     vk::ComputePipeline prepare[kPrepareKinds], horiz, vert[2];  // per prepare kind, mode
     uint32_t vertical_rows = kVerticalGroupRows;  // the vertical pass's workgroup height
@@ -322,14 +308,14 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
         std::vector<float> lut(256);
         for (int i = 0; i < 256; ++i) lut[i] = float(detail::srgb_to_linear(i / 255.0));
         m->srgb_lut = host_buffer(device, lut, kTable);
-        m->opponent_view = texel_view(device, m->opponent);
-        m->horizontal_view = texel_view(device, m->horizontal);
-        m->reference_view = texel_view(device, m->reference);
-        m->map_view = texel_view(device, m->map, VK_FORMAT_R32_SFLOAT, 4);
-        m->weights_view = texel_view(device, m->weights);
-        m->axes_view = texel_view(device, m->axes, VK_FORMAT_R32G32B32A32_UINT);
-        m->block_axis_view = texel_view(device, m->block_axis, VK_FORMAT_R32_UINT, 4);
-        m->srgb_lut_view = texel_view(device, m->srgb_lut, VK_FORMAT_R32_SFLOAT, 4);
+        m->opponent_view = vk::texel_view(device, m->opponent);
+        m->horizontal_view = vk::texel_view(device, m->horizontal);
+        m->reference_view = vk::texel_view(device, m->reference);
+        m->map_view = vk::texel_view(device, m->map, VK_FORMAT_R32_SFLOAT, 4);
+        m->weights_view = vk::texel_view(device, m->weights);
+        m->axes_view = vk::texel_view(device, m->axes, VK_FORMAT_R32G32B32A32_UINT);
+        m->block_axis_view = vk::texel_view(device, m->block_axis, VK_FORMAT_R32_UINT, 4);
+        m->srgb_lut_view = vk::texel_view(device, m->srgb_lut, VK_FORMAT_R32_SFLOAT, 4);
         ColourGpu c{};
         fill_mat3(c.rgb_to_xyz, detail::rgb_to_xyz());
         fill_mat3(c.xyz_to_rgb, detail::xyz_to_rgb());

@@ -233,27 +233,32 @@ void ComputePipeline::bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDes
 
 DescriptorWriter& DescriptorWriter::storage_image(uint32_t binding, VkImageView view) {
     images_.push_back({VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
-    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images_.size() - 1, true});
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images_.size() - 1});
     return *this;
 }
 
 DescriptorWriter& DescriptorWriter::sampled_image(uint32_t binding, VkImageView view,
                                                   VkSampler sampler, VkImageLayout layout) {
     images_.push_back({sampler, view, layout});
-    pending_.push_back(
-        {binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, images_.size() - 1, true});
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, images_.size() - 1});
     return *this;
 }
 
 DescriptorWriter& DescriptorWriter::storage_buffer(uint32_t binding, const Buffer& buffer) {
     buffers_.push_back(buffer.info());
-    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffers_.size() - 1, false});
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffers_.size() - 1});
     return *this;
 }
 
 DescriptorWriter& DescriptorWriter::uniform_buffer(uint32_t binding, const Buffer& buffer) {
     buffers_.push_back(buffer.info());
-    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, buffers_.size() - 1, false});
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, buffers_.size() - 1});
+    return *this;
+}
+
+DescriptorWriter& DescriptorWriter::uniform_texel_buffer(uint32_t binding, VkBufferView view) {
+    texel_views_.push_back(view);
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texel_views_.size() - 1});
     return *this;
 }
 
@@ -265,15 +270,28 @@ void DescriptorWriter::commit() {
         w.dstBinding = p.binding;
         w.descriptorCount = 1;
         w.descriptorType = p.type;
-        if (p.image)
-            w.pImageInfo = &images_[p.index];
-        else
-            w.pBufferInfo = &buffers_[p.index];
+        switch (p.type) {
+            case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+            case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: w.pImageInfo = &images_[p.index]; break;
+            case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+                w.pTexelBufferView = &texel_views_[p.index];
+                break;
+            default: w.pBufferInfo = &buffers_[p.index]; break;
+        }
         writes.push_back(w);
     }
     vkUpdateDescriptorSets(device_, static_cast<uint32_t>(writes.size()), writes.data(), 0,
                            nullptr);
     pending_.clear();
+}
+
+UniqueBufferView texel_view(const Device& device, const Buffer& buffer, VkFormat format,
+                            VkDeviceSize texel_bytes) {
+    VkBufferViewCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    bi.buffer = buffer.get();
+    bi.format = format;
+    bi.range = buffer.size() / texel_bytes * texel_bytes;
+    return create_handle<UniqueBufferView>(device.device(), vkCreateBufferView, bi);
 }
 
 void compute_barrier(VkCommandBuffer cmd) {

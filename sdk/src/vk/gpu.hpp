@@ -80,6 +80,7 @@ private:
 };
 
 using UniqueBuffer = Unique<VkBuffer, vkDestroyBuffer>;
+using UniqueBufferView = Unique<VkBufferView, vkDestroyBufferView>;
 using UniqueDeviceMemory = Unique<VkDeviceMemory, vkFreeMemory>;
 using UniqueImage = Unique<VkImage, vkDestroyImage>;
 using UniqueImageView = Unique<VkImageView, vkDestroyImageView>;
@@ -265,6 +266,8 @@ public:
                                     VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
     DescriptorWriter& storage_buffer(uint32_t binding, const Buffer& buffer);
     DescriptorWriter& uniform_buffer(uint32_t binding, const Buffer& buffer);
+    // A texel buffer view (texel_view()): uniform = samplerBuffer, read by texelFetch.
+    DescriptorWriter& uniform_texel_buffer(uint32_t binding, VkBufferView view);
     void commit();
 
 private:
@@ -272,14 +275,22 @@ private:
     VkDescriptorSet set_;
     std::vector<VkDescriptorImageInfo> images_;
     std::vector<VkDescriptorBufferInfo> buffers_;
+    std::vector<VkBufferView> texel_views_;
     struct Pending {
         uint32_t binding;
         VkDescriptorType type;
-        size_t index;
-        bool image;
+        size_t index;  // into images_, buffers_ or texel_views_, by type
     };
     std::vector<Pending> pending_;
 };
+
+// A view of all of `buffer` as texels of `format` (texel_bytes each), for a texel buffer
+// descriptor; the buffer needs the matching *_TEXEL_BUFFER usage. Why texel buffers: on llvmpipe a
+// texelFetch is one vector gather, while an SSBO or shared-memory load with an index that differs
+// between lanes is a loop of scalar loads, lane by lane.
+UniqueBufferView texel_view(const Device& device, const Buffer& buffer,
+                            VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                            VkDeviceSize texel_bytes = 16);
 
 // Full compute->compute (and transfer) memory barrier: simple and correct for a chain of
 // compute passes over storage images/buffers in GENERAL layout.

@@ -69,8 +69,8 @@ public:
         const float r = post::gabor_radius(params_.kernel_bandwidth);
         const int per_cell = post::impulses_per_cell(impulses);
         const float a = params_.kernel_bandwidth;
-        // enhance_noise_apply.comp stages a 4x4 block of cells (≤ 20 impulses each) per 16x16
-        // tile in shared memory, which holds only while a tile spans at most 2x2 home cells.
+        // enhance_noise_apply.comp lists a 4x4 block of cells (≤ 20 impulses each) per 16x16
+        // tile, which holds only while a tile spans at most 2x2 home cells.
         if (!(r >= 15.0f) || per_cell > 20)
             return make_error("noise kernel radius must be >= 15 px with <= 20 impulses per cell");
         // Cells cover every pixel's 3×3 neighbourhood: indices −1 .. floor((w − ½)/r) + 1.
@@ -90,19 +90,24 @@ public:
         field_ = Image(ctx.device, {std::max(1u, e.width >> 3), std::max(1u, e.height >> 3)},
                        VK_FORMAT_R32G32B32A32_SFLOAT, usage);
         const VkDeviceSize cells = VkDeviceSize(push_.cells_x) * VkDeviceSize(push_.cells_y);
-        impulses_ =
-            Buffer(ctx.device, cells * per_cell * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
-        amplitudes_ =
-            Buffer(ctx.device, cells * per_cell * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
-        cell_peaks_ = Buffer(ctx.device, cells * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        // Written as SSBOs by the impulse stage, read as texel buffers by the synthesis.
+        const VkBufferUsageFlags both =
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+        impulses_ = Buffer(ctx.device, cells * per_cell * 16, both, false);
+        amplitudes_ = Buffer(ctx.device, cells * per_cell * 4, both, false);
+        cell_peaks_ = Buffer(ctx.device, cells * 4, both, false);
+        impulse_texels_ = texel_view(ctx.device, impulses_, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
+        amplitude_texels_ = texel_view(ctx.device, amplitudes_, VK_FORMAT_R32_SFLOAT, 4);
+        peak_texels_ = texel_view(ctx.device, cell_peaks_, VK_FORMAT_R32_SFLOAT, 4);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding buf{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        const Binding texels{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
         const Binding luma_b[] = {img, img};
         const Binding red_b[] = {img, img};
         const Binding grad_b[] = {img, img, img};
         const Binding imp_b[] = {img, img, img, img, img, img, buf, buf, buf};
-        const Binding app_b[] = {img, img, buf, buf, buf};
+        const Binding app_b[] = {img, img, texels, texels, texels};
         luma_ = ctx.builtin_pipeline("enhance_luma.comp", luma_b, 0, false);
         reduce_ = ctx.builtin_pipeline("enhance_reduce.comp", red_b, 0, false);
         gradient_ = ctx.builtin_pipeline("enhance_noise_gradient.comp", grad_b, 0, false);
@@ -198,9 +203,9 @@ private:
         DescriptorWriter(device_, s)
             .storage_image(0, in)
             .storage_image(1, out)
-            .storage_buffer(2, impulses_)
-            .storage_buffer(3, amplitudes_)
-            .storage_buffer(4, cell_peaks_)
+            .uniform_texel_buffer(2, impulse_texels_.get())
+            .uniform_texel_buffer(3, amplitude_texels_.get())
+            .uniform_texel_buffer(4, peak_texels_.get())
             .commit();
         return apply_sets_.emplace(key, s).first->second;
     }
@@ -210,6 +215,7 @@ private:
     NoisePush push_{};
     Image pyramid_, field_;
     Buffer impulses_, amplitudes_, cell_peaks_;
+    UniqueBufferView impulse_texels_, amplitude_texels_, peak_texels_;
     ComputePipeline luma_, reduce_, gradient_, impulse_, apply_;
     std::vector<VkDescriptorSet> reduce_sets_;
     VkDescriptorSet gradient_set_ = VK_NULL_HANDLE;
