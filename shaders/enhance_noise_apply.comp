@@ -4,10 +4,10 @@
 // (Tariq 2022 §4.4), added to the display-referred (after gamma) value of every channel, i.e. a
 // luminance-only change, then decoded back to linear HDR. Cells whose impulses all have zero
 // amplitude (the fovea, flat regions) are skipped; a pixel with no noise is copied unchanged.
-// Impulses are read through texel buffers: on lavapipe a texelFetch is one vector gather, while
-// an SSBO or shared-memory load whose index differs between lanes is a loop of scalar loads (the
-// apply loop's indices do: each strip has its own list). Staging them in shared memory was
-// 25-28 % slower at 1080p.
+// Impulses and the strip lists are read through texel buffers: on lavapipe a texelFetch or a
+// buffer imageLoad is one vector gather, while an SSBO or shared-memory load whose index differs
+// between lanes is a loop of scalar loads, and the apply loop's indices do (each strip has its
+// own list).
 // Mirrors synthesize_gabor_noise() in sdk/src/vk/post/enhance_model.cpp.
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = 0, rgba16f) uniform readonly image2D color_in;
@@ -15,6 +15,9 @@ layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D color_out;
 layout(set = 0, binding = 2) uniform samplerBuffer impulse;    // ix, iy, kx, ky (RGBA32F)
 layout(set = 0, binding = 3) uniform samplerBuffer amplitude;  // K·w (R32F)
 layout(set = 0, binding = 4) uniform samplerBuffer cell_peak;  // max |K·w| (R32F)
+// This chunk's lists: per workgroup, kStrips lists of `cap` entries, global slot | block cell
+// << 28 (slots < 2^28). Written and read by the same workgroup, behind a barrier.
+layout(set = 0, binding = 5, r32ui) uniform coherent uimageBuffer strip_lists;
 
 #include "enhance_common.glsl"
 #include "enhance_noise_common.glsl"
@@ -23,7 +26,6 @@ layout(set = 0, binding = 4) uniform samplerBuffer cell_peak;  // max |K·w| (R3
 // With the cell edge r >= 15 px (checked on the host) the pixels of a 16x16 tile have at most
 // 2x2 home cells, so their 3x3 neighbourhoods lie in one 4x4 block of cells.
 const int kBlockCells = 4;
-const int kMaxPerCell = 20;  // impulses_per_cell(64); the host rejects more
 
 // Why per-strip lists: a pixel's 3x3 cells hold ~9/pi times the impulses its kernel disc can
 // reach, and lavapipe runs every impulse of the loop for all lanes (a skipped one only masks
@@ -33,16 +35,17 @@ const int kMaxPerCell = 20;  // impulses_per_cell(64); the host rejects more
 // sum is the same, term for term.
 const ivec2 kStrip = ivec2(8, 4);
 const int kStrips = (16 / 8) * (16 / 4);
-const int kListCap = kBlockCells * kBlockCells * kMaxPerCell;
-shared uint s_list[kStrips * kListCap];  // global slot | block cell << 28 (slots < 2^28)
 shared int s_count[kStrips];
 
 void main() {
     // Grid index (origin at cell (-1, -1)) of the home cell of the tile's first pixel; every
     // pixel of the tile has home + 1 - block_origin in [0, 1] per axis.
-    ivec2 tile_first = ivec2(gl_WorkGroupID.xy) * 16;
+    ivec2 group = ivec2(gl_WorkGroupID.xy);
+    ivec2 tile_first = (group + ivec2(pc.group_offset_x, pc.group_offset_y)) * 16;
     ivec2 block_origin = ivec2(floor((vec2(tile_first) + 0.5) / pc.radius));
     int lane = int(gl_LocalInvocationIndex);
+    int cap = kBlockCells * kBlockCells * pc.per_cell;  // the most a strip can list
+    int group_base = (group.y * pc.chunk_groups_x + group.x) * kStrips * cap;
     float r2 = pc.radius * pc.radius;
     if (lane < kStrips) {
         // Pixel centres of this strip; an impulse farther than r from all of them (with a
@@ -62,15 +65,16 @@ void main() {
                 vec2 at = texelFetch(impulse, slot).xy;
                 vec2 gap = max(max(lo - at, at - hi), vec2(0.0));
                 if (dot(gap, gap) >= reach) continue;
-                s_list[lane * kListCap + n] = uint(slot) | (uint(cell) << 28);
+                imageStore(strip_lists, group_base + lane * cap + n, uvec4(uint(slot) | (uint(cell) << 28)));
                 ++n;
             }
         }
         s_count[lane] = n;
     }
+    memoryBarrierImage();
     barrier();  // every invocation reaches both: the out-of-image return comes after
 
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 p = tile_first + ivec2(gl_LocalInvocationID.xy);
     if (any(greaterThanEqual(p, imageSize(color_in)))) return;
     vec2 px = vec2(p) + 0.5;
     ivec2 home = ivec2(floor(px / pc.radius));
@@ -80,7 +84,7 @@ void main() {
     ivec2 strip = ivec2(gl_LocalInvocationID.xy) / kStrip;
     int list = strip.y * 2 + strip.x;
     for (int i = 0; i < s_count[list]; ++i) {
-        uint entry = s_list[list * kListCap + i];
+        uint entry = imageLoad(strip_lists, group_base + list * cap + i).x;
         int cell = int(entry >> 28);
         ivec2 c = ivec2(cell % kBlockCells, cell / kBlockCells) - local_home;
         if (any(lessThan(c, ivec2(0))) || any(greaterThan(c, ivec2(2)))) continue;  // not its 3x3

@@ -18,6 +18,9 @@ layout(push_constant) uniform NoisePush {
     int cells_x;            // cell grid, origin at cell (-1, -1)
     int cells_y;
     uint seed;              // constant: impulse positions never move
+    int group_offset_x;     // apply: first workgroup (tile) of this chunk of the dispatch
+    int group_offset_y;
+    int chunk_groups_x;     // apply: workgroups per row of this chunk (strip-list rows)
 } pc;
 
 #endif

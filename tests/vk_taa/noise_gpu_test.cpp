@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <string>
 
 #include "enhance_model.hpp"
 #include "gpu_harness.hpp"
@@ -192,8 +194,42 @@ TEST_F(GpuNoise, FovealHdrNonFiniteAndOffScreenGazeAreSafe) {
     }
 }
 
+// The synthesis dispatches its tiles in chunks that share one strip-list buffer
+// (noise.list_entries): any chunking gives the same bytes as one dispatch, including chunks
+// that split rows of tiles and partial tiles at the edges.
+TEST_F(GpuNoise, ChunkedSynthesisEqualsOneDispatch) {
+    const int w = 181, h = 75;  // 12 x 5 tiles, the last column and row partial
+    const EyeDisplay d = display_with_ppd(w, 48.0f);
+    const float gaze_x = gaze_x_for_eccentricity(w, 48.0f, 20.0f);  // the image at ~20 deg
+    const Image colour = testing::texture(w, h, 1.5f);
+    Image rate(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) rate.at(x, y) = 0.5f + 0.5f * float(x) / float(w);
+    auto synthesize = [&](const std::string& entries) {
+        PassRunner run(*device_, {uint32_t(w), uint32_t(h)},
+                       {"noise.impulses=32", "noise.list_entries=" + entries});
+        run.set_display(d);
+        auto pass = make_noise_pass();
+        EXPECT_TRUE(run.init(*pass).ok());
+        run.set_inputs(colour, Image(w, h, 1, 0.5f), Image(w, h, 2, 0.0f), rate);
+        run.run(*pass, 1, false, gaze_x, 0.5f * float(h));
+        return run.output();
+    };
+    const Image whole = synthesize("1000000");  // 60 tiles x 8 strips x 16 cells x 10: one
+    int noisy = 0;
+    for (size_t i = 0; i < whole.data.size(); ++i)
+        noisy += whole.data[i] != round_to_half(colour.data[i]);
+    EXPECT_GT(noisy, int(whole.data.size() / 4));        // the noise is really there
+    for (const char* entries : {"1", "3000", "5200"}) {  // 1, 2 and 4 tiles per dispatch
+        const Image chunked = synthesize(entries);
+        ASSERT_EQ(chunked.data.size(), whole.data.size());
+        EXPECT_EQ(0, std::memcmp(chunked.data.data(), whole.data.data(), whole.data.size() * 4))
+            << "noise.list_entries=" << entries;
+    }
+}
+
 TEST_F(GpuNoise, RejectsImpulseCountsOutsideTariqsRange) {
-    for (const char* opt : {"noise.impulses=8", "noise.impulses=65"}) {
+    for (const char* opt : {"noise.impulses=8", "noise.impulses=65", "noise.list_entries=0"}) {
         PassRunner run(*device_, {16, 16}, {opt});
         auto pass = make_noise_pass();
         EXPECT_FALSE(run.init(*pass).ok()) << opt;

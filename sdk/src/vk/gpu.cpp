@@ -262,6 +262,12 @@ DescriptorWriter& DescriptorWriter::uniform_texel_buffer(uint32_t binding, VkBuf
     return *this;
 }
 
+DescriptorWriter& DescriptorWriter::storage_texel_buffer(uint32_t binding, VkBufferView view) {
+    texel_views_.push_back(view);
+    pending_.push_back({binding, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, texel_views_.size() - 1});
+    return *this;
+}
+
 void DescriptorWriter::commit() {
     std::vector<VkWriteDescriptorSet> writes;
     for (const Pending& p : pending_) {
@@ -274,9 +280,12 @@ void DescriptorWriter::commit() {
             case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
             case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: w.pImageInfo = &images_[p.index]; break;
             case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+            case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
                 w.pTexelBufferView = &texel_views_[p.index];
                 break;
-            default: w.pBufferInfo = &buffers_[p.index]; break;
+            case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+            case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER: w.pBufferInfo = &buffers_[p.index]; break;
+            default: assert(false && "DescriptorWriter: no writer for this descriptor type");
         }
         writes.push_back(w);
     }

@@ -268,6 +268,7 @@ public:
     DescriptorWriter& uniform_buffer(uint32_t binding, const Buffer& buffer);
     // A texel buffer view (texel_view()): uniform = samplerBuffer, read by texelFetch.
     DescriptorWriter& uniform_texel_buffer(uint32_t binding, VkBufferView view);
+    DescriptorWriter& storage_texel_buffer(uint32_t binding, VkBufferView view);
     void commit();
 
 private:

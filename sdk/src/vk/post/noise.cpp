@@ -4,11 +4,13 @@
 // constant-seed grid (enhance_noise_impulses), and the per-pixel sparse convolution added to
 // every channel after gamma (enhance_noise_apply). CPU reference: gabor_noise() in
 // enhance_model.cpp. Options: noise.impulses (12..64 per kernel, 16), noise.blur_rate
-// (arcmin/deg for s_k, s_f from Tariq Table 2, 0.34), noise.sk, noise.sf (override the table).
+// (arcmin/deg for s_k, s_f from Tariq Table 2, 0.34), noise.sk, noise.sf (override the table),
+// noise.list_entries (memory for the synthesis's strip lists, in uint32 entries; 2^20).
 // Needs an extent of at least 8×8 (the level-3 pyramid). Called on the host's render thread.
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <tuple>
 
 #include "post/enhance_model.hpp"
@@ -20,6 +22,10 @@ namespace {
 // Level 3 is where Tariq reads orientation and the min/max headroom; the Laplacian levels an
 // S_t <= 1 blur selects (l_p < 1.6) are covered by G0..G3 as well.
 constexpr uint32_t kPyramidLevels = 4;
+// enhance_noise_apply.comp: 8x4-pixel strips per 16x16 tile, and the most strip-list entries
+// (uint32) one chunk of its dispatch may use by default (noise.list_entries): 4 MB.
+constexpr uint32_t kStrips = 8;
+constexpr double kListBudget = 1u << 20;
 
 // Mirrors shaders/enhance_noise_push.glsl.
 struct NoisePush {
@@ -37,6 +43,9 @@ struct NoisePush {
     int32_t cells_x;
     int32_t cells_y;
     uint32_t seed;
+    int32_t group_offset_x;
+    int32_t group_offset_y;
+    int32_t chunk_groups_x;
 };
 
 // Pixels per degree at the display centre, as EyeDisplay::pixels_per_degree() computes it
@@ -90,6 +99,12 @@ public:
         field_ = Image(ctx.device, {std::max(1u, e.width >> 3), std::max(1u, e.height >> 3)},
                        VK_FORMAT_R32G32B32A32_SFLOAT, usage);
         const VkDeviceSize cells = VkDeviceSize(push_.cells_x) * VkDeviceSize(push_.cells_y);
+        const uint64_t texel_limit = ctx.device.properties().limits.maxTexelBufferElements;
+        if (uint64_t(cells) * uint64_t(per_cell) > texel_limit)
+            return make_error("noise: " + std::to_string(cells * per_cell) +
+                              " impulses exceed this device's maxTexelBufferElements (" +
+                              std::to_string(texel_limit) +
+                              "); use fewer noise.impulses or a smaller image");
         // Written as SSBOs by the impulse stage, read as texel buffers by the synthesis.
         const VkBufferUsageFlags both =
             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
@@ -99,6 +114,22 @@ public:
         impulse_texels_ = texel_view(ctx.device, impulses_, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
         amplitude_texels_ = texel_view(ctx.device, amplitudes_, VK_FORMAT_R32_SFLOAT, 4);
         peak_texels_ = texel_view(ctx.device, cell_peaks_, VK_FORMAT_R32_SFLOAT, 4);
+        // The apply stage's strip lists: one per 8x4 strip of a 16x16 tile, room for every
+        // impulse of its 4x4 block of cells. The tiles are dispatched in chunks so the lists
+        // stay within a few MB and within the device's texel-buffer limit.
+        const uint32_t per_group = kStrips * 16 * uint32_t(per_cell);
+        const double entries = ctx.option_number("noise.list_entries", kListBudget);
+        if (!(entries >= 1.0 && entries < 4294967296.0))
+            return make_error("noise.list_entries must be in [1, 2^32)");
+        const uint64_t budget = std::min<uint64_t>(uint64_t(entries), texel_limit);
+        const uint32_t groups_x = div_up(e.width, 16), groups_y = div_up(e.height, 16);
+        chunk_.width = uint32_t(std::clamp<uint64_t>(budget / per_group, 1, groups_x));
+        chunk_.height = uint32_t(
+            std::clamp<uint64_t>(budget / (uint64_t(per_group) * chunk_.width), 1, groups_y));
+        strip_lists_ =
+            Buffer(ctx.device, VkDeviceSize(chunk_.width) * chunk_.height * per_group * 4,
+                   VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, false);
+        strip_list_texels_ = texel_view(ctx.device, strip_lists_, VK_FORMAT_R32_UINT, 4);
 
         const Binding img{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
         const Binding buf{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
@@ -107,7 +138,8 @@ public:
         const Binding red_b[] = {img, img};
         const Binding grad_b[] = {img, img, img};
         const Binding imp_b[] = {img, img, img, img, img, img, buf, buf, buf};
-        const Binding app_b[] = {img, img, texels, texels, texels};
+        const Binding lists{VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER};
+        const Binding app_b[] = {img, img, texels, texels, texels, lists};
         luma_ = ctx.builtin_pipeline("enhance_luma.comp", luma_b, 0, false);
         reduce_ = ctx.builtin_pipeline("enhance_reduce.comp", red_b, 0, false);
         gradient_ = ctx.builtin_pipeline("enhance_noise_gradient.comp", grad_b, 0, false);
@@ -159,9 +191,19 @@ public:
         impulse_.bind(f.cmd, VK_NULL_HANDLE, impulse_set(f.rate.view), &push, sizeof(push));
         vkCmdDispatch(f.cmd, div_up(uint32_t(push.cells_x * push.cells_y), 64), 1, 1);
         compute_barrier(f.cmd);
-        apply_.bind(f.cmd, VK_NULL_HANDLE, apply_set(f.color_in.view, f.color_out.view), &push,
-                    sizeof(push));
-        vkCmdDispatch(f.cmd, div_up(e.width, 16), div_up(e.height, 16), 1);
+        const VkDescriptorSet set = apply_set(f.color_in.view, f.color_out.view);
+        const uint32_t groups_x = div_up(e.width, 16), groups_y = div_up(e.height, 16);
+        for (uint32_t y = 0; y < groups_y; y += chunk_.height) {
+            for (uint32_t x = 0; x < groups_x; x += chunk_.width) {
+                if (x + y > 0) compute_barrier(f.cmd);  // the chunks share the strip lists
+                push.group_offset_x = int32_t(x);
+                push.group_offset_y = int32_t(y);
+                push.chunk_groups_x = int32_t(std::min(chunk_.width, groups_x - x));
+                apply_.bind(f.cmd, VK_NULL_HANDLE, set, &push, sizeof(push));
+                vkCmdDispatch(f.cmd, uint32_t(push.chunk_groups_x),
+                              std::min(chunk_.height, groups_y - y), 1);
+            }
+        }
     }
 
 private:
@@ -206,6 +248,7 @@ private:
             .uniform_texel_buffer(2, impulse_texels_.get())
             .uniform_texel_buffer(3, amplitude_texels_.get())
             .uniform_texel_buffer(4, peak_texels_.get())
+            .storage_texel_buffer(5, strip_list_texels_.get())
             .commit();
         return apply_sets_.emplace(key, s).first->second;
     }
@@ -216,6 +259,9 @@ private:
     Image pyramid_, field_;
     Buffer impulses_, amplitudes_, cell_peaks_;
     UniqueBufferView impulse_texels_, amplitude_texels_, peak_texels_;
+    Buffer strip_lists_;
+    VkExtent2D chunk_{};  // workgroups per dispatch of the apply stage
+    UniqueBufferView strip_list_texels_;
     ComputePipeline luma_, reduce_, gradient_, impulse_, apply_;
     std::vector<VkDescriptorSet> reduce_sets_;
     VkDescriptorSet gradient_set_ = VK_NULL_HANDLE;
