@@ -100,7 +100,8 @@ public:
                        VK_FORMAT_R32G32B32A32_SFLOAT, usage);
         const VkDeviceSize cells = VkDeviceSize(push_.cells_x) * VkDeviceSize(push_.cells_y);
         const uint64_t texel_limit = ctx.device.properties().limits.maxTexelBufferElements;
-        if (uint64_t(cells) * uint64_t(per_cell) > texel_limit)
+        // The strip lists hold a slot in 28 bits (enhance_noise_apply.comp).
+        if (uint64_t(cells) * uint64_t(per_cell) > std::min<uint64_t>(texel_limit, 1u << 28))
             return make_error("noise: " + std::to_string(cells * per_cell) +
                               " impulses exceed this device's maxTexelBufferElements (" +
                               std::to_string(texel_limit) +
