@@ -49,6 +49,10 @@ constexpr Field kFields[] = {
     {"blink_post_s", &DetectorParams::blink_post_s},
     {"lookahead_s", &DetectorParams::lookahead_s},
     {"threshold_horizon_s", &DetectorParams::threshold_horizon_s},
+    {"microsaccade_lambda", &DetectorParams::microsaccade_lambda},
+    {"microsaccade_half_window_s", &DetectorParams::microsaccade_half_window_s},
+    {"microsaccade_min_s", &DetectorParams::microsaccade_min_s},
+    {"microsaccade_min_interval_s", &DetectorParams::microsaccade_min_interval_s},
 };
 
 std::string names_list() {

@@ -17,7 +17,12 @@
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
 //      lack, see daemon/gaze/README.md);
-//   4. blinks from lost samples, extended over the lid's artefacts at both edges. Before the
+//   4. offline: microsaccades inside the fixations (Engbert & Kliegl 2003): a run of fixation
+//      samples whose velocity leaves the ellipse of lambda = 6 median-based velocity SDs per
+//      axis, the SDs from the recording's own signal (estimate_thresholds), for at least 6 ms,
+//      20 ms clear of any other event and with a peak above min_peak_dps. The stage needs the
+//      whole recording's SDs, so online mode (which has none) skips it;
+//   5. blinks from lost samples, extended over the lid's artefacts at both edges. Before the
 //      lid's margin, samples among on-and-off dropouts (each within the margin of the next)
 //      are undefined (Event::kUnknown, as the coders' "undefined"): their jumps are the
 //      tracker's, not saccades.
@@ -115,6 +120,25 @@ struct DetectorParams {
     // daemon publishes each sample at once with causal provisional labels (Pipeline::latest()).
     double lookahead_s = 0.350;
     double threshold_horizon_s = 30.0;  // online: memory of the threshold statistics
+    // Microsaccades inside fixations, Engbert & Kliegl (2003, Vision Research 43:1035): the
+    // velocity is their moving average over +-2 samples at 500 Hz (v = (x[n+2] + x[n+1] -
+    // x[n-1] - x[n-2]) / 6 dt), here +-4 ms at any rate; per axis, sigma = sqrt(median(v^2) -
+    // median(v)^2) over every measured sample of the recording (their per-trial estimate; the
+    // median keeps saccades from inflating it); a fixation sample is above threshold when (vx /
+    // lambda sigma_x)^2 + (vy / lambda sigma_y)^2 > 1, lambda = 6 (their value; Engbert &
+    // Mergenthaler 2006 keep 5-6); a run above it of at least 6 ms (their 3 samples at 500 Hz) is a
+    // microsaccade and labelled saccade if its peak passes min_peak_dps (below). Monocular:
+    // the detector sees one gaze (the mean of the valid eyes), so E&K's binocular overlap
+    // cannot be asked for. Offline only (the SDs come from the whole recording);
+    // microsaccade_lambda 0 turns the stage off (daemon/eval/README.md, 2026-12-06).
+    double microsaccade_lambda = 6.0;
+    double microsaccade_half_window_s = 0.004;
+    double microsaccade_min_s = 0.006;
+    // Minimum intersaccadic interval: no other saccade, PSO, blink or pursuit this close to a
+    // microsaccade, so that an overshoot correction is not taken for a new one (Moller et al.
+    // 2002; Troncoso, Macknik & Martinez-Conde 2008, 20 ms). A run this close to a saccade is
+    // its flank or overshoot (left as labelled); one this close after a microsaccade joins it.
+    double microsaccade_min_interval_s = 0.020;
 
     double min_onset_dps() const { return min_peak_dps * onset_sd / peak_sd; }
 };
@@ -139,6 +163,10 @@ struct VelocityThresholds {
     double peak_dps = 100.0;
     double onset_dps = 50.0;
     double noise_deg = 0.05;  // mean |second difference| of position in fixation/pursuit
+    // Engbert & Kliegl's median-based velocity SD per axis over the recording's fixations
+    // (deg/s); 0: unknown, the microsaccade stage is off (online mode).
+    double microsaccade_sigma_x_dps = 0.0;
+    double microsaccade_sigma_y_dps = 0.0;
 };
 
 // Not thread-safe; one owner thread.
@@ -195,6 +223,7 @@ private:
         double vf = kNaN;               // speed from the sharper offset derivative
         double vx = kNaN, vy = kNaN;    // velocity vector (wide derivative)
         double vfx = kNaN, vfy = kNaN;  // velocity vector (sharp derivative)
+        double mvx = kNaN, mvy = kNaN;  // Engbert & Kliegl's moving-average velocity
         bool valid = false;             // measured (not a held dropout value)
         bool lost = false;              // part of a loss long enough to be a blink
         Label label = Label::kPending;
@@ -212,6 +241,13 @@ private:
     void compute_velocity(int64_t c);
     void stage_saccades(int64_t c);
     void stage_smooth(int64_t d, int64_t newest_labelled);
+    void stage_microsaccades(int64_t d);
+    void microsaccade_velocity(int64_t d);
+    void finish_microsaccade(int64_t last);
+    // Offline with the recording's SDs (set_thresholds); never online.
+    bool microsaccades_on() const {
+        return p_.microsaccade_lambda > 0 && ms_sigma_x_ > 0 && ms_sigma_y_ > 0;
+    }
     void start_saccade(int64_t c, bool after_pso = false);
     void end_saccade(int64_t last);
     void set_saccade_direction(const Entry& e);
@@ -250,11 +286,18 @@ private:
     double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.1;
 
     std::deque<Entry> buf_;
-    int64_t base_ = 0;        // absolute index of buf_.front()
-    int64_t n_ = 0;           // samples pushed
-    int64_t vel_next_ = 0;    // next sample whose velocity is due
-    int64_t s2_next_ = 0;     // next sample for the saccade stage
-    int64_t s3_next_ = 0;     // next sample for the fixation/pursuit stage
+    int64_t base_ = 0;         // absolute index of buf_.front()
+    int64_t n_ = 0;            // samples pushed
+    int64_t vel_next_ = 0;     // next sample whose velocity is due
+    int64_t s2_next_ = 0;      // next sample for the saccade stage
+    int64_t s3_next_ = 0;      // next sample for the fixation/pursuit stage
+    int64_t s4_next_ = 0;      // next sample for the microsaccade stage
+    int64_t ms_start_ = -1;    // first sample of the open microsaccade run, -1: none
+    bool ms_skip_ = false;     // the run outgrew a saccade: wait for a sample below threshold
+    int km_ = 1;               // microsaccade velocity half window, samples
+    int ms_interval_ = 0;      // microsaccade_min_interval_s in samples (stage 4's lag)
+    int64_t ms_last_id_ = -1;  // record of the latest microsaccade
+    double ms_sigma_x_ = 0.0, ms_sigma_y_ = 0.0;
     int64_t stats_next_ = 0;  // online: next sample for the threshold statistics
     int64_t emit_next_ = 0;
     bool flushing_ = false;
@@ -280,7 +323,8 @@ private:
     std::deque<Record> records_;
     std::vector<double>* velocity_sink_ = nullptr;
     std::vector<double>* noise_sink_ = nullptr;
-    double noise_ = 0.05, noise_weight_ = 0.0;  // velocities(): collects every value
+    std::vector<std::array<double, 2>>* ms_sink_ = nullptr;  // every sample's (mvx, mvy)
+    double noise_ = 0.05, noise_weight_ = 0.0;               // velocities(): collects every value
 };
 
 }  // namespace fovea::gaze
