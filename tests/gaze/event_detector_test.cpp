@@ -345,6 +345,37 @@ TEST_P(MicrosaccadeRates, OfflineLabelsAMicrosaccadeAndNotNoise) {
 
 INSTANTIATE_TEST_SUITE_P(Rates, MicrosaccadeRates, ::testing::Values(250.0, 500.0, 1000.0));
 
+// At the ends of the supported range the stage adds nothing on noise alone: at 60 Hz one sample
+// already spans E&K's 6 ms and their velocity window is a single sample either side; at 2000 Hz
+// the window is 8 samples either side. 20 s per seed of noise loud enough (0.25 deg per axis, a
+// webcam tracker's) that its speeds pass the 20 deg/s peak floor, so only the ellipse decides.
+TEST(EventDetector, MicrosaccadeStageAddsNothingOnNoiseAt60And2000Hz) {
+    DetectorParams without;
+    without.microsaccade_lambda = 0.0;
+    auto saccades = [](const std::vector<DetectorOutput>& out) {
+        return std::count_if(out.begin(), out.end(),
+                             [](const DetectorOutput& o) { return o.event == Event::kSaccade; });
+    };
+    for (double rate : {60.0, 2000.0}) {
+        for (uint64_t seed : {5u, 17u, 31u}) {
+            SCOPED_TRACE(::testing::Message() << rate << " Hz, seed " << seed);
+            std::vector<DetectorInput> in;
+            for (int i = 0; i < int(20.0 * rate); ++i) {
+                DetectorInput d;
+                d.t_s = i / rate;
+                d.valid = true;
+                d.x_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+                d.y_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+                in.push_back(d);
+            }
+            const auto with_stage = EventDetector::detect_offline(in, {}, rate);
+            ASSERT_EQ(with_stage.size(), in.size());
+            EXPECT_EQ(saccades(with_stage),
+                      saccades(EventDetector::detect_offline(in, without, rate)));
+        }
+    }
+}
+
 TEST(EventDetector, GarbageInputIsLabelledNotPropagated) {
     EventDetector d({}, 500.0, DetectorMode::kOnline);
     DetectorOutput o;
