@@ -57,15 +57,16 @@ void main() {
         for (int cell = 0; cell < kBlockCells * kBlockCells; ++cell) {
             ivec2 g = block_origin + ivec2(cell % kBlockCells, cell / kBlockCells);
             if (any(greaterThanEqual(g, ivec2(pc.cells_x, pc.cells_y)))) continue;
-            int first = (g.y * pc.cells_x + g.x) * pc.per_cell;
-            if (!(texelFetch(cell_peak, g.y * pc.cells_x + g.x).x > 0.0)) continue;
+            int index = g.y * pc.cells_x + g.x;
+            if (!(texelFetch(cell_peak, index).x > 0.0)) continue;
             for (int k = 0; k < pc.per_cell; ++k) {
-                int slot = first + k;
+                int slot = index * pc.per_cell + k;
                 if (texelFetch(amplitude, slot).x == 0.0) continue;
                 vec2 at = texelFetch(impulse, slot).xy;
                 vec2 gap = max(max(lo - at, at - hi), vec2(0.0));
                 if (dot(gap, gap) >= reach) continue;
-                imageStore(strip_lists, group_base + lane * cap + n, uvec4(uint(slot) | (uint(cell) << 28)));
+                uint entry = uint(slot) | (uint(cell) << 28);
+                imageStore(strip_lists, group_base + lane * cap + n, uvec4(entry));
                 ++n;
             }
         }

@@ -4,7 +4,6 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
-#include <initializer_list>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -59,24 +58,6 @@ uint32_t prepare_kind(FlipInput kind, VkFormat format) {
     return kind == FlipInput::kSrgb && unorm8 ? kSrgb8 : uint32_t(kind);
 }
 
-// Texel buffer descriptors: uniform (read) or storage (written).
-void write_texel_views(VkDevice device, VkDescriptorSet set, VkDescriptorType type,
-                       std::initializer_list<std::pair<uint32_t, VkBufferView>> views) {
-    std::vector<VkBufferView> handles;
-    for (const auto& v : views) handles.push_back(v.second);
-    std::vector<VkWriteDescriptorSet> writes;
-    size_t i = 0;
-    for (const auto& v : views) {
-        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        w.dstSet = set;
-        w.dstBinding = v.first;
-        w.descriptorCount = 1;
-        w.descriptorType = type;
-        w.pTexelBufferView = &handles[i++];
-        writes.push_back(w);
-    }
-    vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);
-}
 constexpr uint32_t kTimestamps = 4;  // start, after prepare, horizontal, vertical
 
 void fill_mat3(float* out, const detail::Mat3& m) {
@@ -221,11 +202,9 @@ struct GpuFlip::Impl {
             .sampled_image(1, b, sampler.get())
             .storage_buffer(2, motion)
             .uniform_buffer(4, colour)
+            .storage_texel_buffer(3, opponent_view.get())
+            .uniform_texel_buffer(5, srgb_lut_view.get())
             .commit();
-        write_texel_views(device->device(), set, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER,
-                          {{3, opponent_view.get()}});
-        write_texel_views(device->device(), set, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-                          {{5, srgb_lut_view.get()}});
         prepare_sets.emplace(key, set);
         return set;
     }
@@ -354,24 +333,24 @@ Result<GpuFlip> GpuFlip::create(const vk::Device& device, uint32_t width, uint32
                                                 VK_NULL_HANDLE, vert_b, sizeof(VerticalPush), spec);
         }
         m->horiz_set = m->horiz.allocate_set();
-        constexpr VkDescriptorType kRead = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-        constexpr VkDescriptorType kWrite = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
-        write_texel_views(device.device(), m->horiz_set, kWrite, {{1, m->horizontal_view.get()}});
-        write_texel_views(device.device(), m->horiz_set, kRead,
-                          {{0, m->opponent_view.get()},
-                           {2, m->axes_view.get()},
-                           {3, m->weights_view.get()},
-                           {4, m->block_axis_view.get()}});
+        vk::DescriptorWriter(device.device(), m->horiz_set)
+            .uniform_texel_buffer(0, m->opponent_view.get())
+            .storage_texel_buffer(1, m->horizontal_view.get())
+            .uniform_texel_buffer(2, m->axes_view.get())
+            .uniform_texel_buffer(3, m->weights_view.get())
+            .uniform_texel_buffer(4, m->block_axis_view.get())
+            .commit();
         m->vert_set = m->vert[0].allocate_set();  // used with both modes' alike layouts
-        vk::DescriptorWriter(device.device(), m->vert_set).uniform_buffer(6, m->colour).commit();
-        write_texel_views(device.device(), m->vert_set, kWrite,
-                          {{1, m->reference_view.get()}, {2, m->map_view.get()}});
-        write_texel_views(device.device(), m->vert_set, kRead,
-                          {{0, m->horizontal_view.get()},
-                           {3, m->axes_view.get()},
-                           {4, m->weights_view.get()},
-                           {5, m->block_axis_view.get()},
-                           {7, m->reference_view.get()}});
+        vk::DescriptorWriter(device.device(), m->vert_set)
+            .uniform_texel_buffer(0, m->horizontal_view.get())
+            .storage_texel_buffer(1, m->reference_view.get())
+            .storage_texel_buffer(2, m->map_view.get())
+            .uniform_texel_buffer(3, m->axes_view.get())
+            .uniform_texel_buffer(4, m->weights_view.get())
+            .uniform_texel_buffer(5, m->block_axis_view.get())
+            .uniform_buffer(6, m->colour)
+            .uniform_texel_buffer(7, m->reference_view.get())
+            .commit();
         const VkDescriptorPoolSize sizes[] = {
             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * Impl::kPrepareSets},
             {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, Impl::kPrepareSets},

@@ -228,7 +228,8 @@ TEST_F(GpuNoise, ChunkedSynthesisEqualsOneDispatch) {
     }
 }
 
-TEST_F(GpuNoise, RejectsImpulseCountsOutsideTariqsRange) {
+// Impulse counts outside Tariq's 12..64, and no memory for the strip lists.
+TEST_F(GpuNoise, RejectsOptionsOutOfRange) {
     for (const char* opt : {"noise.impulses=8", "noise.impulses=65", "noise.list_entries=0"}) {
         PassRunner run(*device_, {16, 16}, {opt});
         auto pass = make_noise_pass();

@@ -266,7 +266,8 @@ public:
                                     VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
     DescriptorWriter& storage_buffer(uint32_t binding, const Buffer& buffer);
     DescriptorWriter& uniform_buffer(uint32_t binding, const Buffer& buffer);
-    // A texel buffer view (texel_view()): uniform = samplerBuffer, read by texelFetch.
+    // A texel buffer view (texel_view()): uniform = samplerBuffer (texelFetch), storage =
+    // imageBuffer (imageLoad / imageStore).
     DescriptorWriter& uniform_texel_buffer(uint32_t binding, VkBufferView view);
     DescriptorWriter& storage_texel_buffer(uint32_t binding, VkBufferView view);
     void commit();

@@ -123,10 +123,10 @@ public:
         if (!(entries >= 1.0 && entries < 4294967296.0))
             return make_error("noise.list_entries must be in [1, 2^32)");
         const uint64_t budget = std::min<uint64_t>(uint64_t(entries), texel_limit);
-        const uint32_t groups_x = div_up(e.width, 16), groups_y = div_up(e.height, 16);
-        chunk_.width = uint32_t(std::clamp<uint64_t>(budget / per_group, 1, groups_x));
+        groups_ = {div_up(e.width, 16), div_up(e.height, 16)};
+        chunk_.width = uint32_t(std::clamp<uint64_t>(budget / per_group, 1, groups_.width));
         chunk_.height = uint32_t(
-            std::clamp<uint64_t>(budget / (uint64_t(per_group) * chunk_.width), 1, groups_y));
+            std::clamp<uint64_t>(budget / (uint64_t(per_group) * chunk_.width), 1, groups_.height));
         strip_lists_ =
             Buffer(ctx.device, VkDeviceSize(chunk_.width) * chunk_.height * per_group * 4,
                    VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT, false);
@@ -193,16 +193,15 @@ public:
         vkCmdDispatch(f.cmd, div_up(uint32_t(push.cells_x * push.cells_y), 64), 1, 1);
         compute_barrier(f.cmd);
         const VkDescriptorSet set = apply_set(f.color_in.view, f.color_out.view);
-        const uint32_t groups_x = div_up(e.width, 16), groups_y = div_up(e.height, 16);
-        for (uint32_t y = 0; y < groups_y; y += chunk_.height) {
-            for (uint32_t x = 0; x < groups_x; x += chunk_.width) {
+        for (uint32_t y = 0; y < groups_.height; y += chunk_.height) {
+            for (uint32_t x = 0; x < groups_.width; x += chunk_.width) {
                 if (x + y > 0) compute_barrier(f.cmd);  // the chunks share the strip lists
                 push.group_offset_x = int32_t(x);
                 push.group_offset_y = int32_t(y);
-                push.chunk_groups_x = int32_t(std::min(chunk_.width, groups_x - x));
+                push.chunk_groups_x = int32_t(std::min(chunk_.width, groups_.width - x));
                 apply_.bind(f.cmd, VK_NULL_HANDLE, set, &push, sizeof(push));
                 vkCmdDispatch(f.cmd, uint32_t(push.chunk_groups_x),
-                              std::min(chunk_.height, groups_y - y), 1);
+                              std::min(chunk_.height, groups_.height - y), 1);
             }
         }
     }
@@ -261,7 +260,8 @@ private:
     Buffer impulses_, amplitudes_, cell_peaks_;
     UniqueBufferView impulse_texels_, amplitude_texels_, peak_texels_;
     Buffer strip_lists_;
-    VkExtent2D chunk_{};  // workgroups per dispatch of the apply stage
+    VkExtent2D groups_{};  // the apply stage's 16x16 tiles
+    VkExtent2D chunk_{};   // tiles per dispatch of the apply stage
     UniqueBufferView strip_list_texels_;
     ComputePipeline luma_, reduce_, gradient_, impulse_, apply_;
     std::vector<VkDescriptorSet> reduce_sets_;
