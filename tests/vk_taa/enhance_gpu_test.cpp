@@ -85,6 +85,7 @@ TEST_F(GpuContrast, HdrZerosAndNonFiniteInputStayFinite) {
 namespace fovea::vk {
 std::unique_ptr<PostPass> make_taa_pass();
 std::unique_ptr<PostPass> make_noise_pass();
+std::unique_ptr<PostPass> make_copy_pass();
 }  // namespace fovea::vk
 
 namespace fovea::vk::post {
@@ -93,7 +94,9 @@ namespace {
 // Cost of the post chain at 1080p (a measurement, not a pass/fail timing: run with
 // FOVEA_POST_COST=1). Prints ms per frame for TAA, contrast and both; medians of 3 batches. S_t
 // grows smoothly with the distance from the centre; the TAA and contrast passes are also timed
-// with S_t quantized per 16×16 tile to 0, 1/2, 1 as cps writes it.
+// with S_t quantized per 16×16 tile to 0, 1/2, 1 as cps writes it. The floor, measured in the
+// same run: the copy pass (one rgba16f load and store per pixel), the least a full-screen pass
+// costs on this device.
 TEST_F(GpuContrast, PostChainCostAt1080p) {
     if (!std::getenv("FOVEA_POST_COST")) GTEST_SKIP() << "set FOVEA_POST_COST=1 to measure";
     const int w = 1920, h = 1080;
@@ -128,6 +131,11 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
     ASSERT_TRUE(r5.init(*con_tiles).ok());
     const double con_tiles_ms = measure(*con_tiles, r5, tile_rate);
     const double con_tiles_cpu = cpu_per_frame;
+    PassRunner r0(*device_, {uint32_t(w), uint32_t(h)}, {});
+    auto copy = make_copy_pass();
+    ASSERT_TRUE(r0.init(*copy).ok());
+    const double copy_ms = measure(*copy, r0);
+    const double copy_cpu = cpu_per_frame;
     PassRunner r3(*device_, {uint32_t(w), uint32_t(h)}, {});
     r3.set_display(EyeDisplay::desktop_1080p());
     auto noise = make_noise_pass();
@@ -143,6 +151,10 @@ TEST_F(GpuContrast, PostChainCostAt1080p) {
         "S_t per 16x16 tile (0, 1/2, 1): taa %.1f ms, contrast %.1f ms/frame; process "
         "CPU: taa %.1f ms, contrast %.1f ms\n",
         taa_tiles_ms, con_tiles_ms, taa_tiles_cpu, con_tiles_cpu);
+    std::printf(
+        "floor, the copy pass: %.1f ms/frame, process CPU %.1f ms; taa+contrast = %.1f copies "
+        "(CPU)\n",
+        copy_ms, copy_cpu, (taa_cpu + con_cpu) / copy_cpu);
 }
 
 }  // namespace

@@ -7,6 +7,10 @@
 // (arcmin/deg for s_k, s_f from Tariq Table 2, 0.34), noise.sk, noise.sf (override the table),
 // noise.list_entries (memory for the synthesis's strip lists, in uint32 entries; 2^20).
 // Needs an extent of at least 8×8 (the level-3 pyramid). Called on the host's render thread.
+// The synthesis runs at full resolution because the band needs it: F_L is at least the blur's
+// cutoff 3/(2πσ), and σ ≤ 1.12 px (S_t ≤ 1) puts that at ≥ 0.43 cycles/px, while F_H/ppd ≥ 0.54
+// (Thibos's 20.5 cpd at 30°, ≤ 38 ppd on the desktop and HMD displays) clamps F_H to the pixel
+// Nyquist 0.5. Every impulse lies in [0.43, 0.5] cycles/px, above a half-resolution grid's 0.25.
 #include <algorithm>
 #include <cmath>
 #include <map>
