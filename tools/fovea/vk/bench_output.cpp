@@ -54,6 +54,7 @@ nlohmann::json row_json(const Row& r, const std::string& primary) {
     m["ms_per_frame"] = r.ms_median;
     m["ms_p95"] = r.ms_p95;
     m["method_gpu_ms"] = r.method_gpu_ms;
+    m["gbuffer_gpu_ms"] = r.gbuffer_gpu_ms > 0 ? nlohmann::json(r.gbuffer_gpu_ms) : nullptr;
     m["shaded_fraction"] = r.shaded_fraction;
     m["flip_mean"] = number_or_null(r.flip_mean);
     m["flip_bands"] = array_json(r.flip_bands);
@@ -186,6 +187,35 @@ nlohmann::json to_json(const std::vector<Row>& rows, int frames) {
     return j;
 }
 
+namespace {
+
+// What a foveated method could cost at best on this host and device: its G-buffer plus its
+// shaded fraction of the full-rate method's time, no overhead of its own, against the full-rate
+// frame of the same configuration. Rows without post passes and with a timed G-buffer only.
+void print_cost_floors(std::FILE* out, const std::vector<Row>& rows) {
+    bool header = false;
+    for (const auto& r : rows) {
+        if (!r.error.empty() || r.method.rfind("full", 0) == 0 || r.tag != "default" ||
+            !(r.gbuffer_gpu_ms > 0))
+            continue;
+        const Row* full = find_row(rows, "full", r.tag, r.display_name);
+        if (!full || !(full->ms_median > 0)) continue;
+        if (!header) {
+            std::fprintf(out,
+                         "cost against full rate, and the floor at zero method overhead (G-buffer "
+                         "+ shaded fraction x full-rate method):\n");
+            header = true;
+        }
+        const double floor_ms = r.gbuffer_gpu_ms + r.shaded_fraction * full->method_gpu_ms;
+        std::fprintf(out, "  %-10s %-18s %.3fx  floor %.3fx = (%.1f + %.1f%% x %.1f) / %.1f ms\n",
+                     r.method.c_str(), r.display_name.c_str(), r.ms_median / full->ms_median,
+                     floor_ms / full->ms_median, r.gbuffer_gpu_ms, 100.0 * r.shaded_fraction,
+                     full->method_gpu_ms, full->ms_median);
+    }
+}
+
+}  // namespace
+
 void print_table(std::FILE* out, const std::vector<Row>& rows) {
     const std::string& primary = primary_display(rows);
     std::fprintf(out, "%-28s %7s %7s %6s %7s %7s %7s %7s %8s %7s %6s  %s\n", "variant", "ms med",
@@ -205,6 +235,7 @@ void print_table(std::FILE* out, const std::vector<Row>& rows) {
         for (double f : r.flip_bands) std::fprintf(out, " %6s", fixed(f, 4).c_str());
         std::fprintf(out, "\n");
     }
+    print_cost_floors(out, rows);
     std::fprintf(out,
                  "FLIP: mean LDR-FLIP against the full-rate reference at the ppd each pixel is "
                  "seen at (FLIP67: at 67 ppd); PSNR pooled over the frames; ATD, tFLIP: between "
@@ -227,7 +258,7 @@ bool write_csv(const std::string& path, const std::vector<Row>& rows,
     bands("psnr_");
     bands("ssim_");
     csv << ",atd,atd_settled,atd_cut,tflip,tflip_settled,tflip_cut,flip_gpu_ms,skipped_tiles,"
-           "reused_tiles,pareto_flip,pareto_psnr\n";
+           "reused_tiles,pareto_flip,pareto_psnr,gbuffer_gpu_ms\n";
     const std::vector<size_t> front = pareto_rows(rows, FrontMetric::kFlip);
     const std::vector<size_t> front_psnr = pareto_rows(rows, FrontMetric::kPsnr);
     for (size_t i = 0; i < rows.size(); ++i) {
@@ -247,7 +278,8 @@ bool write_csv(const std::string& path, const std::vector<Row>& rows,
             << r.tflip_settled << "," << r.tflip_cut << "," << r.flip_gpu_ms << ","
             << r.skipped_tiles << "," << r.reused_tiles << ","
             << (std::count(front.begin(), front.end(), i) ? 1 : 0) << ","
-            << (std::count(front_psnr.begin(), front_psnr.end(), i) ? 1 : 0) << "\n";
+            << (std::count(front_psnr.begin(), front_psnr.end(), i) ? 1 : 0) << ","
+            << r.gbuffer_gpu_ms << "\n";
     }
     return bool(csv);
 }

@@ -279,6 +279,7 @@ Result<std::vector<Row>> run_sweep(
                 row.ms_median = r.ms_median;
                 row.ms_p95 = percentile(r.ms, 95.0);
                 row.method_gpu_ms = r.method_gpu_ms;
+                row.gbuffer_gpu_ms = r.gbuffer_gpu_ms;
                 row.shaded_fraction = r.shaded_fraction;
                 const demo::ErrorFigures& e = r.error_figures;
                 row.psnr_db = e.psnr_db;

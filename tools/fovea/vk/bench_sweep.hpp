@@ -39,6 +39,7 @@ struct Row {
     int frames = 0;
     double ms_median = 0, ms_p95 = 0;  // wall time per frame, submit -> done
     double method_gpu_ms = 0;
+    double gbuffer_gpu_ms = 0;  // the host's G-buffer passes (0: the runner does not time them)
     double shaded_fraction = 0;
     // Against the full-rate reference, pooled over the frames; no caps (+inf: identical).
     double psnr_db = 0;  // the whole frame
