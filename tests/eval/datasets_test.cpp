@@ -244,6 +244,7 @@ TEST(Asc, ParserEventsBecomeOneCoderPerEye) {
     auto d = load_asc_dir((t.path() / "src").string());
     ASSERT_TRUE(d.ok()) << d.error().message;
     EXPECT_FALSE(d->human);
+    EXPECT_EQ(d->pso_without_label, Event::kFixation);
     const Recording& r = d->recordings.at(0);
     EXPECT_EQ(r.stimulus, "src");
     EXPECT_TRUE(r.binocular);

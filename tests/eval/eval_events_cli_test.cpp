@@ -70,8 +70,12 @@ TEST(EvalEventsCli, AgainstEyelinkScoresEveryAscSourceAgainstTheTrackersParser) 
          {"eyelinkparser/data1", "mne-testing-data/test_eyelink", "sp_tool/eyelink_data_example"}) {
         ASSERT_TRUE(k.contains(s)) << s;
         ++sources;
-        // Both detectors see the same samples: their saccades agree far above chance.
-        EXPECT_GT(k[s]["saccade"]["all"].get<double>(), 0.5) << s;
+        // Both detectors see the same samples: their saccades agree far above chance once the
+        // PSO is scored as the parser's fixation (Dataset::pso_without_label; as the saccade's
+        // tail, mne-testing-data's kappa was .571 and its event F1 .466).
+        EXPECT_GT(k[s]["saccade"]["all"].get<double>(), 0.70) << s;
+        EXPECT_GT(j["datasets"]["eyelink"]["f1_event"][s]["saccade"]["all"].get<double>(), 0.80)
+            << s;
         EXPECT_GT(j["datasets"]["eyelink"]["f1_event"][s]["fixation"]["all"].get<double>(), 0.6)
             << s;
     }

@@ -68,6 +68,9 @@ TEST(FoldToScheme, EventsOutsideTheCodersVocabularyFoldOntoTheirs) {
     EXPECT_EQ(out, (std::vector<Event>{F, S, S, F, U, U}));
     d.scheme = {F, S, P, R, B};
     EXPECT_EQ(fold_to_scheme(std::vector<Event>{P, R, B}, d), (std::vector<Event>{P, R, B}));
+    d.scheme = {F, S};
+    d.pso_without_label = F;  // EyeLink's parser: the wobble starts the fixation
+    EXPECT_EQ(fold_to_scheme(std::vector<Event>{S, P, F}, d), (std::vector<Event>{S, F, F}));
     d.scheme = {F};
     EXPECT_EQ(coder_labels(std::vector<Event>{F, S, P}, d), (std::vector<Event>{F, U, U}));
 }

@@ -220,11 +220,7 @@ Result<eval::Dataset> peer_dataset(const std::string& path) {
     } else {
         files.push_back(path);
     }
-    eval::Dataset d;
-    d.name = "eyelink";
-    d.path = path;
-    d.human = false;
-    d.scheme = {gaze::Event::kFixation, gaze::Event::kSaccade, gaze::Event::kBlink};
+    eval::Dataset d = eval::eyelink_parser_dataset("eyelink", path);
     for (const auto& f : files) {
         auto r = eval::load_asc(f, &d.notes);
         if (!r) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 #include "fovea/eval/dataset.hpp"
 #include "fovea/import/reader.hpp"
@@ -210,12 +211,18 @@ Result<Recording> load_asc(const std::string& path, std::vector<std::string>* no
     return r;
 }
 
-Result<Dataset> load_asc_dir(const std::string& dir) {
+Dataset eyelink_parser_dataset(std::string name, std::string path) {
     Dataset d;
-    d.name = "eyelink";
-    d.path = dir;
+    d.name = std::move(name);
+    d.path = std::move(path);
     d.human = false;
     d.scheme = {Event::kFixation, Event::kSaccade, Event::kBlink};
+    d.pso_without_label = Event::kFixation;
+    return d;
+}
+
+Result<Dataset> load_asc_dir(const std::string& dir) {
+    Dataset d = eyelink_parser_dataset("eyelink", dir);
     for (const auto& p : files_with(dir, ".asc")) {
         auto r = load_asc(p.string(), &d.notes);
         if (!r) {

@@ -119,7 +119,7 @@ std::vector<Event> fold_to_scheme(std::span<const Event> detected, const Dataset
     const bool blink = dataset.labels(Event::kBlink);
     std::vector<Event> out(detected.begin(), detected.end());
     for (Event& e : out) {
-        if (e == Event::kPso && !pso) e = Event::kSaccade;
+        if (e == Event::kPso && !pso) e = dataset.pso_without_label;
         if (e == Event::kPursuit && !pursuit) e = Event::kFixation;
         if (e == Event::kBlink && !blink) e = Event::kUnknown;
         if (!dataset.labels(e)) e = Event::kUnknown;

@@ -37,6 +37,12 @@ struct Dataset {
     // The events the coders' scheme distinguishes; detections are mapped onto it for scoring
     // (scoring.hpp: fold_to_scheme) and only these are scored.
     std::vector<gaze::Event> scheme;
+    // Where a detected PSO is scored when the scheme has none (fold_to_scheme): people who
+    // label no PSO give the wobble to the saccade it ends; EyeLink's parser starts the fixation
+    // where velocity and acceleration fall below its thresholds and keeps overshoots and
+    // glissades out of the saccade (SR Research, EyeLink 1000 User Manual §4.3.5-4.3.6), so
+    // there the wobble is fixation.
+    gaze::Event pso_without_label = gaze::Event::kSaccade;
     std::vector<Recording> recordings;
     std::vector<std::string> notes;  // files skipped or repaired, and why
 
@@ -61,6 +67,9 @@ Result<Dataset> load_arff(const std::string& dir);
 // EyeLink ASC files in dir, scored against the tracker's own online parser (EFIX/ESACC/EBLINK
 // per eye: coders "eyelink-left" / "eyelink-right"); a peer, not people (Dataset::human false).
 Result<Dataset> load_asc_dir(const std::string& dir);
+// An empty dataset named `name` with the EyeLink parser's scheme and conventions, for ASC files
+// gathered elsewhere (fovea eval-events --against eyelink).
+Dataset eyelink_parser_dataset(std::string name, std::string path);
 Result<Recording> load_asc(const std::string& path, std::vector<std::string>* notes = nullptr);
 
 // Every dataset found under root, which may be one dataset's folder or ../shared/data itself

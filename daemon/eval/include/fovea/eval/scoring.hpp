@@ -38,9 +38,10 @@ struct EventCounts {
 void count_events(std::span<const gaze::Event> detected, std::span<const gaze::Event> labelled,
                   gaze::Event e, EventCounts& out, double min_iou = 0.5);
 
-// Detections in the coders' vocabulary. A scheme without PSO has no other place for it than
-// the saccade it ends; without pursuit, the slow movement between saccades is what such coders
-// call fixation (Hooge's coders saw static displays); without blinks, a blink is "no event".
+// Detections in the coders' vocabulary. A scheme without PSO puts it where its labels do
+// (Dataset::pso_without_label: the saccade it ends, or EyeLink's fixation); without pursuit, the
+// slow movement between saccades is what such coders call fixation (Hooge's coders saw static
+// displays); without blinks, a blink is "no event".
 std::vector<gaze::Event> fold_to_scheme(std::span<const gaze::Event> detected,
                                         const Dataset& dataset);
 // A coder's labels in the same vocabulary (labels outside the scheme become "no event").
