@@ -252,9 +252,10 @@ TEST(Asc, ParserEventsBecomeOneCoderPerEye) {
     const auto& right = r.coders.at("eyelink-right");
     EXPECT_EQ(left[0], Event::kFixation);
     EXPECT_EQ(left[10], Event::kFixation);
-    EXPECT_EQ(left[11], Event::kSaccade);
-    EXPECT_EQ(left[12], Event::kBlink);  // the blink EyeLink wraps in a saccade wins
-    EXPECT_EQ(left[15], Event::kSaccade);
+    // The saccade EyeLink wraps around a blink is the lid's: blink from end to end.
+    EXPECT_EQ(left[11], Event::kBlink);
+    EXPECT_EQ(left[12], Event::kBlink);
+    EXPECT_EQ(left[15], Event::kBlink);
     EXPECT_EQ(left[16], Event::kUnknown);
     EXPECT_EQ(right[20], Event::kSaccade);
     EXPECT_EQ(right[0], Event::kUnknown);

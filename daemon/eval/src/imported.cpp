@@ -89,18 +89,32 @@ std::vector<fs::path> files_with(const std::string& dir, const char* ext) {
 }
 
 // The tracker's events as per-sample labels of one eye: a sample inside [start, end] (its own
-// stamp, end = the event's last sample) takes the event; a blink wins over the saccade EyeLink
-// wraps around it.
+// stamp, end = the event's last sample) takes the event. EyeLink wraps every blink in a
+// "blink saccade", the lid's movement over the pupil taken for the eye's (SR Research; its Data
+// Viewer merges them into the blink): a saccade holding a blink of the same eye is blink.
 std::vector<Event> labels_from_events(const Imported& im, import::Eye eye) {
     std::vector<Event> out(im.time_s.size(), Event::kUnknown);
     const double half = 0.25 / std::max(1.0, im.info.rate_hz());
+    const auto mine = [&](const import::LabelledEvent& e) {
+        return e.eye == eye || e.eye == import::Eye::kBoth;
+    };
+    std::vector<std::pair<double, double>> blinks;  // [start, end], by start
+    for (const auto& e : im.events)
+        if (mine(e) && e.type == Event::kBlink) blinks.emplace_back(e.start_s, e.end_s);
+    std::sort(blinks.begin(), blinks.end());
+    const auto wraps_blink = [&](const import::LabelledEvent& s) {
+        auto b = std::lower_bound(blinks.begin(), blinks.end(), std::make_pair(s.start_s, -1e300));
+        return b != blinks.end() && b->second <= s.end_s;
+    };
     for (int pass = 0; pass < 2; ++pass) {
         for (const auto& e : im.events) {
-            if (e.eye != eye && e.eye != import::Eye::kBoth) continue;
+            if (!mine(e)) continue;
             if ((e.type == Event::kBlink) != (pass == 1)) continue;
+            const Event label =
+                e.type == Event::kSaccade && wraps_blink(e) ? Event::kBlink : e.type;
             auto lo = std::lower_bound(im.time_s.begin(), im.time_s.end(), e.start_s - half);
             for (auto k = lo; k != im.time_s.end() && *k <= e.end_s + half; ++k)
-                out[static_cast<size_t>(k - im.time_s.begin())] = e.type;
+                out[static_cast<size_t>(k - im.time_s.begin())] = label;
         }
     }
     return out;
