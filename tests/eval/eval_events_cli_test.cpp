@@ -136,6 +136,20 @@ TEST(EvalEventsCli, HeldOutKappaPerDatasetStaysAboveItsFloor) {
     EXPECT_FALSE(j["cv"]["shipped"].contains("pursuit_dps"));
 }
 
+// Online mode (what fovead runs), held out: the causal microsaccade stage (SDs from the past,
+// 2026-12-06) raised U'n'Eye saccade .128 -> .517 (offline .600); floor minus 0.03 as above.
+// Its largest falls elsewhere were Lund video saccade .881 -> .872 and GazeCom saccade .821 ->
+// .814; those cells are floored offline only.
+TEST(EvalEventsCli, OnlineHeldOutUneyeSaccadeStaysAboveItsFloor) {
+    if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
+    const auto j = run_json({"eval-events", kData, "--cv", "dataset", "--mode", "online", "--json"},
+                            "cv_online", std::chrono::seconds(240));
+    ASSERT_FALSE(j.is_discarded());
+    const auto& k = j["datasets"]["uneye"]["held_out"]["kappa"]["all"]["saccade"]["all"];
+    ASSERT_TRUE(k.is_number());
+    EXPECT_GE(k.get<double>(), 0.517 - 0.03);
+}
+
 // --cv-pin KEY keeps a fitted constant out of the folds: every fold uses the --detector (or
 // shipped) value, reported under cv.pinned, so with every tunable pinned nothing is fitted and
 // each dataset's held-out score is its in-sample score, cell by cell.

@@ -53,6 +53,8 @@ constexpr Field kFields[] = {
     {"microsaccade_half_window_s", &DetectorParams::microsaccade_half_window_s},
     {"microsaccade_min_s", &DetectorParams::microsaccade_min_s},
     {"microsaccade_min_interval_s", &DetectorParams::microsaccade_min_interval_s},
+    {"microsaccade_warmup_values", &DetectorParams::microsaccade_warmup_values},
+    {"online_microsaccades", nullptr, &DetectorParams::online_microsaccades},
 };
 
 std::string names_list() {

@@ -34,6 +34,11 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     km_ = samples_for(p_.microsaccade_half_window_s, rate_, 1);
     ms_interval_ = static_cast<int>(std::ceil(p_.microsaccade_min_interval_s * rate_ - 1e-9));
     history_ = std::max({k_, w_, km_ + ms_interval_}) + 2;
+    // Online stage: a run is judged ms_interval_ after it (its lag behind stage 3) and may join
+    // the previous microsaccade up to ms_interval_ before it (held back in pop()).
+    ms_hold_ = 2 * ms_interval_ + 1;
+    ms_refresh_ = samples_for(0.010, rate_, 1);
+    ms_warmup_ = std::max(0.0, p_.microsaccade_warmup_values) * 2.0 * km_;
     stats_delay_ = samples_for(p_.blink_pre_s, rate_, 1) + 2;
     if (mode_ == DetectorMode::kOnline) {
         noise_ = p_.noise_prior_deg;
@@ -144,7 +149,12 @@ void EventDetector::advance(bool flushing) {
     while (s3_next_ <= due && s3_next_ < s2_next_) stage_smooth(s3_next_++, newest);
     // Microsaccades need final fixation labels (a run must not cross into pursuit).
     // It lags stage 3 by the minimum intersaccadic interval, whose labels it checks after a run.
-    const int64_t lag = microsaccades_on() ? ms_interval_ : 0;
+    if (ms_online()) {
+        // The SD histograms take every sample as soon as its E&K window has arrived: the
+        // estimate a label uses is then from the past plus the bounded look-ahead.
+        while (ms_feed_next_ + km_ < n_) feed_microsaccade_stats(ms_feed_next_++);
+    }
+    const int64_t lag = ms_staged() ? ms_interval_ : 0;
     while (s4_next_ < s3_next_ && (s4_next_ + lag < s3_next_ || flushing)) {
         stage_microsaccades(s4_next_++);
     }
@@ -154,12 +164,16 @@ void EventDetector::advance(bool flushing) {
 
 bool EventDetector::pop(DetectorOutput& out) {
     if (emit_next_ >= s4_next_) return false;
-    // Offline microsaccades: a run may still join the previous one across the interval.
-    if (microsaccades_on() && !flushing_ && emit_next_ >= settled_ &&
+    // Online, a sample this old leaves whatever the microsaccade stage still holds open: the
+    // hold is bounded by lookahead_samples() (a run it cuts is dropped, finish_microsaccade).
+    const bool due = ms_online() && emit_next_ <= n_ - 1 - lookahead_samples();
+    // Microsaccades: a run may still join the previous one across the interval.
+    if (ms_staged() && !due && !flushing_ && emit_next_ >= settled_ &&
         emit_next_ + ms_interval_ + 1 >= s4_next_) {
         return false;
     }
-    if (ms_start_ >= 0 && emit_next_ >= ms_start_) return false;  // a microsaccade run is open
+    // A microsaccade run is open.
+    if (ms_start_ >= 0 && !due && emit_next_ >= ms_start_) return false;
     if (!flushing_ && emit_next_ >= settled_ && emit_next_ > n_ - 1 - lookahead_) return false;
     const Entry& e = at(emit_next_);
     out.index = emit_next_;
@@ -626,6 +640,92 @@ void EventDetector::microsaccade_velocity(int64_t d) {
     if (!e.valid || !(st > 0)) return;
     e.mvx = sx / st;
     e.mvy = sy / st;
+}
+
+// Online Engbert & Kliegl SDs. sigma = sqrt(median(v^2) - median(v)^2) per axis needs two
+// running medians (median(v^2) = median(|v|)^2). A decaying histogram rather than a
+// stochastic-approximation quantile tracker (median += eta sign(v - median)): the histogram's
+// median is the exact weighted median of the past up to the bin width (5.9 % on a 40-per-decade
+// log grid, interpolated within the bin), with the same exponential memory in seconds as the
+// other online statistics at any rate and no step size that would have to suit both the
+// tracker's scale (sigma 1-50 deg/s) and its rate (60-2000 Hz). Decay without touching every
+// bin: each new value weighs ms_gain_, which grows by exp(dt / horizon); all weights are
+// rescaled when it passes 1e30 (every ~69 horizons, ~35 min at 30 s), so nothing overflows or
+// loses precision over hours (weights older than ~700 horizons underflow to 0, harmlessly). The
+// grid spans 1e-3 to 1e4 deg/s (7 decades, 561 bins per axis); beyond it values land in the end
+// bins, which the median hardly ever reaches.
+void EventDetector::DecayingHistogram::add(double v, double weight) {
+    const double a = std::fabs(v);
+    int j = -1;  // -1: the 0 bin
+    if (a >= kMin) j = std::min(kSide - 1, static_cast<int>(std::log10(a / kMin) * kPerDecade));
+    const int idx = j < 0 ? kSide : (v > 0 ? kSide + 1 + j : kSide - 1 - j);
+    w_[static_cast<size_t>(idx)] += weight;
+    total_ += weight;
+}
+
+void EventDetector::DecayingHistogram::scale(double f) {
+    for (double& w : w_) w *= f;
+    total_ *= f;
+}
+
+double EventDetector::DecayingHistogram::median() const {
+    const double half = 0.5 * total_;
+    double cum = 0.0;
+    for (int idx = 0; idx < 2 * kSide + 1; ++idx) {
+        const double w = w_[static_cast<size_t>(idx)];
+        if (w <= 0.0 || cum + w < half) {
+            cum += w;
+            continue;
+        }
+        const double f = std::clamp((half - cum) / w, 0.0, 1.0);
+        if (idx == kSide) return kMin * (2.0 * f - 1.0);
+        if (idx > kSide) return kMin * std::pow(10.0, (idx - kSide - 1 + f) / kPerDecade);
+        return -kMin * std::pow(10.0, (kSide - idx - f) / kPerDecade);
+    }
+    return 0.0;
+}
+
+double EventDetector::DecayingHistogram::median_abs() const {
+    const double half = 0.5 * total_;
+    double cum = w_[kSide];
+    if (cum >= half && cum > 0.0) return kMin * std::clamp(half / cum, 0.0, 1.0);
+    for (int j = 0; j < kSide; ++j) {
+        const double w =
+            w_[static_cast<size_t>(kSide + 1 + j)] + w_[static_cast<size_t>(kSide - 1 - j)];
+        if (w <= 0.0 || cum + w < half) {
+            cum += w;
+            continue;
+        }
+        const double f = std::clamp((half - cum) / w, 0.0, 1.0);
+        return kMin * std::pow(10.0, (j + f) / kPerDecade);
+    }
+    return 0.0;
+}
+
+void EventDetector::feed_microsaccade_stats(int64_t i) {
+    if (i <= base_ || i >= n_) return;
+    microsaccade_velocity(i);
+    const Entry& e = at(i);
+    if (!std::isfinite(e.mvx) || !std::isfinite(e.mvy)) return;
+    const double horizon = std::max(p_.threshold_horizon_s, 1e-3);
+    ms_gain_ *= std::exp(std::min(e.t - at(i - 1).t, 0.1) / horizon);
+    if (ms_gain_ > 1e30) {
+        ms_hist_x_.scale(1.0 / ms_gain_);
+        ms_hist_y_.scale(1.0 / ms_gain_);
+        ms_gain_ = 1.0;
+    }
+    ms_hist_x_.add(e.mvx, ms_gain_);
+    ms_hist_y_.add(e.mvy, ms_gain_);
+    if (++ms_fed_ < ms_refresh_) return;
+    ms_fed_ = 0;
+    // Effective number of values in the memory (the newest weighs ms_gain_).
+    if (ms_hist_x_.total() / ms_gain_ < ms_warmup_) return;
+    auto sigma = [](const DecayingHistogram& h) {
+        const double m = h.median(), a = h.median_abs();
+        return std::sqrt(std::max(0.0, a * a - m * m));
+    };
+    ms_sigma_x_ = sigma(ms_hist_x_);
+    ms_sigma_y_ = sigma(ms_hist_y_);
 }
 
 void EventDetector::stage_microsaccades(int64_t d) {

@@ -17,11 +17,14 @@
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
 //      lack, see daemon/gaze/README.md);
-//   4. offline: microsaccades inside the fixations (Engbert & Kliegl 2003): a run of fixation
-//      samples whose velocity leaves the ellipse of lambda = 6 median-based velocity SDs per
-//      axis, the SDs from the recording's own signal (estimate_thresholds), for at least 6 ms,
-//      20 ms clear of any other event and with a peak above min_peak_dps. The stage needs the
-//      whole recording's SDs, so online mode (which has none) skips it;
+//   4. microsaccades inside the fixations (Engbert & Kliegl 2003): a run of fixation samples
+//      whose velocity leaves the ellipse of lambda = 6 median-based velocity SDs per axis for
+//      at least 6 ms, 20 ms clear of any other event and with a peak above min_peak_dps.
+//      Offline the SDs come from the whole recording (estimate_thresholds); online from the
+//      past over threshold_horizon_s (a decaying histogram per axis, fed as samples arrive,
+//      so the estimate a label uses is the past plus the bounded look-ahead), and the stage
+//      waits until that history holds microsaccade_warmup_values independent values (~0.5 s);
+//      its lag (2 x 20 ms) adds to the online look-ahead;
 //   5. blinks from lost samples, extended over the lid's artefacts at both edges. Before the
 //      lid's margin, samples among on-and-off dropouts (each within the margin of the next)
 //      are undefined (Event::kUnknown, as the coders' "undefined"): their jumps are the
@@ -129,8 +132,9 @@ struct DetectorParams {
     // Mergenthaler 2006 keep 5-6); a run above it of at least 6 ms (their 3 samples at 500 Hz) is a
     // microsaccade and labelled saccade if its peak passes min_peak_dps (below). Monocular:
     // the detector sees one gaze (the mean of the valid eyes), so E&K's binocular overlap
-    // cannot be asked for. Offline only (the SDs come from the whole recording);
-    // microsaccade_lambda 0 turns the stage off (daemon/eval/README.md, 2026-12-06).
+    // cannot be asked for. Offline the SDs come from the whole recording, online from the past
+    // (below); microsaccade_lambda 0 turns the stage off in both modes (daemon/eval/README.md,
+    // 2026-12-06).
     double microsaccade_lambda = 6.0;
     double microsaccade_half_window_s = 0.004;
     double microsaccade_min_s = 0.006;
@@ -139,6 +143,19 @@ struct DetectorParams {
     // 2002; Troncoso, Macknik & Martinez-Conde 2008, 20 ms). A run this close to a saccade is
     // its flank or overshoot (left as labelled); one this close after a microsaccade joins it.
     double microsaccade_min_interval_s = 0.020;
+    // Online (fovead): the same stage with the SDs from the past (an exponentially decaying
+    // histogram per axis over threshold_horizon_s, fed as samples arrive; event_detector.cpp).
+    // It starts once the history holds this many independent velocity values (one per E&K
+    // window, 2 x microsaccade_half_window_s: 60 = 0.48 s at any rate from 250 Hz up): the
+    // median-based SD of n independent Gaussian values has a relative SE of about 1.16 /
+    // sqrt(n), 15 % at 60, so one SE low still leaves lambda at 6 / 1.15 = 5.2, inside Engbert
+    // & Mergenthaler's (2006) 5-6. Before that the stage is off: a prior SD would be one
+    // tracker's noise, and ours span 0.017-0.4 deg (daemon/eval/README.md). The stage's
+    // lag (the interval after a run, and a run joining the previous one) adds 2 x
+    // microsaccade_min_interval_s to the look-ahead; lookahead_samples() reports the sum.
+    // online_microsaccades 0 turns the online stage off (daemon/eval/README.md, 2026-12-06).
+    double microsaccade_warmup_values = 60.0;
+    int online_microsaccades = 1;
 
     double min_onset_dps() const { return min_peak_dps * onset_sd / peak_sd; }
 };
@@ -163,8 +180,8 @@ struct VelocityThresholds {
     double peak_dps = 100.0;
     double onset_dps = 50.0;
     double noise_deg = 0.05;  // mean |second difference| of position in fixation/pursuit
-    // Engbert & Kliegl's median-based velocity SD per axis over the recording's fixations
-    // (deg/s); 0: unknown, the microsaccade stage is off (online mode).
+    // Engbert & Kliegl's median-based velocity SD per axis over the recording (deg/s); 0:
+    // unknown, the offline microsaccade stage is off (online mode estimates its own).
     double microsaccade_sigma_x_dps = 0.0;
     double microsaccade_sigma_y_dps = 0.0;
 };
@@ -187,7 +204,11 @@ public:
     // flush() does, but keep accepting input; later samples get the look-ahead again.
     void settle();
 
-    int lookahead_samples() const { return lookahead_; }
+    // Samples held back at most: the look-ahead, plus the online microsaccade stage's lag.
+    int lookahead_samples() const { return lookahead_ + (ms_online() ? ms_hold_ : 0); }
+    // Engbert & Kliegl's per-axis velocity SDs the microsaccade stage uses now (deg/s):
+    // offline the recording's, online the running estimate; 0 while unknown (stage off).
+    std::array<double, 2> microsaccade_sigma_dps() const { return {ms_sigma_x_, ms_sigma_y_}; }
     // A saccade in flight at the newest processed sample (for landing prediction).
     bool saccade_in_flight() const { return state_ == State::kSaccade; }
     int64_t saccade_onset_index() const { return sacc_onset_; }
@@ -244,10 +265,19 @@ private:
     void stage_microsaccades(int64_t d);
     void microsaccade_velocity(int64_t d);
     void finish_microsaccade(int64_t last);
-    // Offline with the recording's SDs (set_thresholds); never online.
+    // With SDs: offline the recording's (set_thresholds), online the running estimate once
+    // warmed up.
     bool microsaccades_on() const {
         return p_.microsaccade_lambda > 0 && ms_sigma_x_ > 0 && ms_sigma_y_ > 0;
     }
+    // Online stage configured (its lag and hold apply from the first sample, warmed up or not).
+    bool ms_online() const {
+        return mode_ == DetectorMode::kOnline && p_.online_microsaccades != 0 &&
+               p_.microsaccade_lambda > 0;
+    }
+    // The stage lags stage 3 and holds emission (offline: once it has SDs; online: always).
+    bool ms_staged() const { return microsaccades_on() || ms_online(); }
+    void feed_microsaccade_stats(int64_t i);
     void start_saccade(int64_t c, bool after_pso = false);
     void end_saccade(int64_t last);
     void set_saccade_direction(const Entry& e);
@@ -298,7 +328,30 @@ private:
     int ms_interval_ = 0;      // microsaccade_min_interval_s in samples (stage 4's lag)
     int64_t ms_last_id_ = -1;  // record of the latest microsaccade
     double ms_sigma_x_ = 0.0, ms_sigma_y_ = 0.0;
-    int64_t stats_next_ = 0;  // online: next sample for the threshold statistics
+    // Online: a weighted median of v and of |v| on one axis over the recent past, from a
+    // histogram on a symmetric log grid whose weights decay exponentially (event_detector.cpp).
+    class DecayingHistogram {
+    public:
+        void add(double v, double weight);
+        void scale(double f);
+        double total() const { return total_; }
+        double median() const;      // of v (signed)
+        double median_abs() const;  // of |v|
+        static constexpr int kPerDecade = 40, kDecades = 7;
+        static constexpr int kSide = kPerDecade * kDecades;  // bins per sign
+        static constexpr double kMin = 1e-3;                 // deg/s; |v| below it: the 0 bin
+    private:
+        std::array<double, 2 * kSide + 1> w_{};  // [kSide]: |v| < kMin; above: v > 0
+        double total_ = 0.0;
+    };
+    DecayingHistogram ms_hist_x_, ms_hist_y_;
+    double ms_gain_ = 1.0;      // weight of the newest value (grows instead of decaying all)
+    int64_t ms_feed_next_ = 0;  // online: next sample for the SD histograms
+    int64_t ms_fed_ = 0;        // values fed since the last SD refresh
+    int ms_refresh_ = 1;        // refresh the SDs every this many values (10 ms)
+    int ms_hold_ = 0;           // online: samples the stage adds to the look-ahead
+    double ms_warmup_ = 0.0;    // online: effective values needed before the stage starts
+    int64_t stats_next_ = 0;    // online: next sample for the threshold statistics
     int64_t emit_next_ = 0;
     bool flushing_ = false;
     int64_t settled_ = 0;  // samples below this index were finished by settle()
