@@ -55,7 +55,6 @@ protected:
     void SetUp() override {
         if (!std::filesystem::exists(kFovead) || !std::filesystem::exists(kFovea))
             GTEST_SKIP() << "fovead/fovea not built";
-        dir_ = test::scratch_dir("daemon");
         std::filesystem::create_directories(dir_ / "run");
         setenv("FOVEA_RUNTIME_DIR", (dir_ / "run").c_str(), 1);
         instance_ = "rec" + std::to_string(getpid());
@@ -78,7 +77,7 @@ protected:
         return kFovea + " --instance " + instance_ + " " + args + " >> '" +
                (dir_ / "cli.log").string() + "' 2>&1";
     }
-    std::filesystem::path dir_;
+    test::ScratchDir dir_{"daemon"};
     std::string instance_;
     pid_t daemon_ = -1;
 };

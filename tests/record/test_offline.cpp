@@ -110,7 +110,7 @@ std::vector<std::vector<std::string>> read_csv(const std::string& path) {
 }  // namespace
 
 TEST(Replay, SimRecordingReplaysBitIdenticallyThroughThePipeline) {
-    const auto dir = test::scratch_dir("replay");
+    const test::ScratchDir dir("replay");
     const auto live = record_sim((dir / "sim.xdf").string(), 10.0, 42);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok()) << f.error().message;
@@ -129,7 +129,7 @@ TEST(Replay, SimRecordingReplaysBitIdenticallyThroughThePipeline) {
 }
 
 TEST(Replay, PrerollRebuildsTheChainStateOfARecordingStartedLate) {
-    const auto dir = test::scratch_dir("preroll");
+    const test::ScratchDir dir("preroll");
     const auto live = record_sim((dir / "late.xdf").string(), 3.0, 21, 4.0, true);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok());
@@ -145,7 +145,7 @@ TEST(Replay, PrerollRebuildsTheChainStateOfARecordingStartedLate) {
 
 TEST(Replay, WithoutPrerollALateRecordingIsReportedAsDifferent) {
     // the chain's state (clock mapping, filters, adaptive thresholds) depends on its history
-    const auto dir = test::scratch_dir("nopreroll");
+    const test::ScratchDir dir("nopreroll");
     const auto live = record_sim((dir / "late.xdf").string(), 3.0, 21, 4.0, false);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok());
@@ -156,7 +156,7 @@ TEST(Replay, WithoutPrerollALateRecordingIsReportedAsDifferent) {
 }
 
 TEST(Replay, ATamperedRecordingIsReportedAsAMismatch) {
-    const auto dir = test::scratch_dir("tamper");
+    const test::ScratchDir dir("tamper");
     const auto live = record_sim((dir / "sim.xdf").string(), 2.0, 7);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok());
@@ -169,7 +169,7 @@ TEST(Replay, ATamperedRecordingIsReportedAsAMismatch) {
 }
 
 TEST(Export, CsvRowsEqualWhatWasPublished) {
-    const auto dir = test::scratch_dir("csv");
+    const test::ScratchDir dir("csv");
     const auto live = record_sim((dir / "sim.xdf").string(), 3.0, 3);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok());
@@ -228,7 +228,7 @@ TEST(Plot, ValuesOffALogAxisOrNotFiniteDrawNothingAndCastNothingUndefined) {
 }
 
 TEST(Report, WritesHtmlAndEveryPlot) {
-    const auto dir = test::scratch_dir("report");
+    const test::ScratchDir dir("report");
     const auto live = record_sim((dir / "sim.xdf").string(), 5.0, 11);
     auto f = xdf::read_file(live.path);
     ASSERT_TRUE(f.ok());
@@ -257,7 +257,8 @@ TEST(Report, ForeignXdfIsRejectedClearly) {
     e.stream_header(1, s);
     auto f = xdf::parse(e.buffer().data(), e.buffer().size());
     ASSERT_TRUE(f.ok());
-    auto r = make_report(*f, "x", test::scratch_dir("foreign").string());
+    const test::ScratchDir dir("foreign");
+    auto r = make_report(*f, "x", dir.path().string());
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("not a Fovea recording"), std::string::npos);
 }

@@ -50,7 +50,7 @@ void expect_eye(const fovea::gaze::EyeSample& a, const fovea::gaze::EyeSample& b
 }  // namespace
 
 TEST(Recorder, EverySampleRoundTripsBitExactly) {
-    const auto dir = test::scratch_dir("roundtrip");
+    const test::ScratchDir dir("roundtrip");
     const std::string path = (dir / "r.xdf").string();
     auto opt = options(path);
     opt.info.time_origin_ns = kT0;
@@ -134,7 +134,7 @@ TEST(Recorder, UnwritablePathIsOneClearError) {
 
 TEST(Recorder, DiskFullMidRecordingReportsOnceAndTheCallerKeepsGoing) {
     // A real kernel write error: RLIMIT_FSIZE makes write() fail with EFBIG past 64 KiB.
-    const auto dir = test::scratch_dir("full");
+    const test::ScratchDir dir("full");
     const std::string path = (dir / "full.xdf").string();
     std::signal(SIGXFSZ, SIG_IGN);
     rlimit old{};
@@ -188,7 +188,7 @@ TEST(Recorder, QueueGrownWhileTheDiskStalledIsGivenBackOnceTheWriterCatchesUp) {
     // A real stall: the recording is a FIFO nobody reads, so write() blocks once the pipe is
     // full and the queue grows; then a reader drains it. The queue must shrink back to what the
     // sample rate needs instead of keeping the stall's high-water mark for the whole recording.
-    const auto dir = test::scratch_dir("stall");
+    const test::ScratchDir dir("stall");
     const std::string path = (dir / "stall.fifo").string();
     ASSERT_EQ(mkfifo(path.c_str(), 0600), 0);
     const int reader = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -238,7 +238,7 @@ TEST(Recorder, QueueGrownWhileTheDiskStalledIsGivenBackOnceTheWriterCatchesUp) {
 }
 
 TEST(Recorder, KillDashNineLosesAtMostTheLastFlushAndRepairClosesTheFile) {
-    const auto dir = test::scratch_dir("kill9");
+    const test::ScratchDir dir("kill9");
     const std::string path = (dir / "k.xdf").string();
     const std::string progress = (dir / "progress").string();
     int pipefd[2];

@@ -13,7 +13,7 @@
 
 namespace xdf = fovea::record::xdf;
 using fovea::record::test::expect_libxdf_agrees;
-using fovea::record::test::scratch_dir;
+using fovea::record::test::ScratchDir;
 
 namespace {
 
@@ -109,7 +109,7 @@ TEST(Xdf, EveryNumericFormatRoundTrips) {
 }
 
 TEST(Xdf, LibxdfReadsEveryFormatAsWeDo) {
-    const auto dir = scratch_dir("libxdf");
+    const ScratchDir dir("libxdf");
     const std::string path = (dir / "formats.xdf").string();
     write_bytes(path, make_file(1000, true));
     expect_libxdf_agrees(path);
@@ -147,7 +147,7 @@ TEST(Xdf, RepairClosesAFileCutAnywhereAndLibxdfAgrees) {
     for (const auto& c : whole->chunks) {
         if (c.tag == 2) header_end = c.offset + c.length + 5;
     }
-    const auto dir = scratch_dir("repair");
+    const ScratchDir dir("repair");
     std::mt19937 rng(5);
     int compared = 0;  // cuts libxdf could load
     for (int k = 0; k < 12; ++k) {
