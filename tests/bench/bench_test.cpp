@@ -121,26 +121,13 @@ TEST(BenchCli, QuickJsonCarriesEveryMethodAndKey) {
         SCOPED_TRACE(name);
         ASSERT_TRUE(j["methods"].contains(name));
         const auto& m = j["methods"][name];
-        for (const char* key : {"ms_per_frame",
-                                "ms_p95",
-                                "shaded_fraction",
-                                "flip_mean",
-                                "flip_bands",
-                                "flip_mean_67ppd",
-                                "flip_bands_67ppd",
-                                "psnr_bands_pooled",
-                                "psnr_db",
-                                "psnr_fovea_db",
-                                "ssim_bands",
-                                "atd",
-                                "atd_no_taa",
-                                "atd_full_taa",
-                                "tflip",
-                                "temporal",
-                                "skipped_tiles",
-                                "reused_tiles",
-                                "method_gpu_ms",
-                                "gbuffer_gpu_ms"})
+        for (const char* key :
+             {"ms_per_frame", "ms_p95", "shaded_fraction", "flip_mean", "flip_bands",
+              "flip_mean_67ppd", "flip_bands_67ppd", "psnr_bands_pooled", "psnr_db",
+              "psnr_fovea_db", "ssim_bands", "atd", "atd_no_taa", "atd_full_taa", "tflip",
+              "temporal", "skipped_tiles", "reused_tiles"})
+            EXPECT_TRUE(m.contains(key)) << key;
+        for (const char* key : {"method_gpu_ms", "gbuffer_gpu_ms"})
             EXPECT_TRUE(m.contains(key)) << key;
         // The demo host times its G-buffer (the cost floor under every method).
         EXPECT_GT(m["gbuffer_gpu_ms"].get<double>(), 0.0);
