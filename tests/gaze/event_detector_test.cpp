@@ -114,6 +114,14 @@ struct Script {
             sample();
         }
     }
+    // Smooth movement at (vx, vy) deg/s.
+    void pursue(double secs, double vx, double vy = 0.0) {
+        for (int i = 0; i < std::lround(secs * kRate); ++i) {
+            x += vx / kRate;
+            y += vy / kRate;
+            sample();
+        }
+    }
     void lose(int samples) {
         for (int i = 0; i < samples; ++i) {
             DetectorInput d;
@@ -172,6 +180,122 @@ TEST(EventDetector, FastPursuitIsNoSaccade) {
     DetectorParams absolute;
     absolute.relative_window_s = 0.0;
     EXPECT_GT(saccade_samples(absolute), 20);
+}
+
+// Share of the samples in [lo, hi) labelled `want` among those labelled fixation or pursuit.
+double smooth_share(const std::vector<DetectorOutput>& out, size_t lo, size_t hi, Event want) {
+    int n = 0, k = 0;
+    for (size_t i = lo; i < hi && i < out.size(); ++i) {
+        if (out[i].event != Event::kFixation && out[i].event != Event::kPursuit) continue;
+        ++n;
+        k += out[i].event == want;
+    }
+    return n ? static_cast<double>(k) / n : 0.0;
+}
+
+std::vector<DetectorOutput> detect(const Script& s, const DetectorParams& p, DetectorMode mode) {
+    if (mode == DetectorMode::kOffline)
+        return EventDetector::detect_offline(s.in, p, Script::kRate);
+    EventDetector d(p, Script::kRate, mode);
+    std::vector<DetectorOutput> out;
+    DetectorOutput o;
+    for (const auto& in : s.in) {
+        d.push(in);
+        while (d.pop(o)) out.push_back(o);
+    }
+    d.flush();
+    while (d.pop(o)) out.push_back(o);
+    return out;
+}
+
+// Pursuit at 3.2 deg/s split by 1-deg catch-up saccades every 0.28 s (lund2013 dots,
+// UH25_trial1): each piece moves 0.9 deg, under the 1-deg bound on its own, but the eye keeps
+// its direction and speed across each saccade, which goes the same way: pursuit.
+TEST(EventDetector, PursuitSplitByCatchUpSaccadesIsPursuit) {
+    Script s;
+    s.fixate(1.0);
+    s.saccade(2.0);
+    std::vector<std::pair<size_t, size_t>> pieces;
+    for (int k = 0; k < 5; ++k) {
+        if (k > 0) s.saccade(1.0);
+        const size_t lo = s.size();
+        s.pursue(0.28, 3.2);
+        pieces.emplace_back(lo, s.size());
+    }
+    s.saccade(2.0);
+    const size_t fix_lo = s.size();
+    s.fixate(1.0);
+    const size_t fix_hi = s.size();
+    DetectorParams on;
+    on.pursuit_catch_up = 1;
+    DetectorParams off = on;
+    off.pursuit_catch_up = 0;
+    for (auto mode : {DetectorMode::kOffline, DetectorMode::kOnline}) {
+        const auto out_on = detect(s, on, mode);
+        const auto out_off = detect(s, off, mode);
+        ASSERT_EQ(out_on.size(), s.size());
+        for (const auto& [lo, hi] : pieces) {
+            EXPECT_GT(smooth_share(out_on, lo, hi, Event::kPursuit), 0.9) << lo;
+            // Without the rule each piece is too short and too slow for the bound.
+            EXPECT_LT(smooth_share(out_off, lo, hi, Event::kPursuit), 0.5) << lo;
+        }
+        // The fixation after the last catch-up saccade stays fixation.
+        EXPECT_GT(smooth_share(out_on, fix_lo, fix_hi, Event::kFixation), 0.95);
+    }
+}
+
+// A short fixation between two forward saccades inside a pursuit, drifting the same way at
+// 0.5 deg/s, is not pooled with the pursuit on either side: its speed is a tenth of theirs.
+TEST(EventDetector, FixationBetweenPursuitAndSaccadesIsNotAbsorbed) {
+    Script s;
+    s.fixate(1.0);
+    s.saccade(2.0);
+    const size_t p1 = s.size();
+    s.pursue(0.6, 5.0);
+    const size_t p1_end = s.size();
+    s.saccade(1.0);
+    const size_t fix_lo = s.size();
+    s.pursue(0.3, 0.5);
+    const size_t fix_hi = s.size();
+    s.saccade(1.0);
+    const size_t p2 = s.size();
+    s.pursue(0.6, 5.0);
+    const size_t p2_end = s.size();
+    s.saccade(2.0);
+    s.fixate(1.0);
+    DetectorParams on;
+    on.pursuit_catch_up = 1;
+    for (auto mode : {DetectorMode::kOffline, DetectorMode::kOnline}) {
+        const auto out = detect(s, on, mode);
+        ASSERT_EQ(out.size(), s.size());
+        EXPECT_GT(smooth_share(out, fix_lo, fix_hi, Event::kFixation), 0.9);
+        EXPECT_GT(smooth_share(out, p1, p1_end, Event::kPursuit), 0.9);
+        EXPECT_GT(smooth_share(out, p2, p2_end, Event::kPursuit), 0.9);
+    }
+}
+
+// Two fixations drifting alike at 3 deg/s (as the coders' fixations in lund2013 video
+// UL27_video_triple_jump) on either side of an 8-deg saccade the same way: no catch-up saccade
+// is that large (pursuit_join_max_deg), so they are not pooled into pursuit.
+TEST(EventDetector, DriftingFixationsAcrossALargeSaccadeAreNotPooled) {
+    Script s;
+    s.fixate(1.0);
+    s.saccade(4.0);
+    const size_t lo = s.size();
+    s.pursue(0.25, 3.0);
+    s.saccade(8.0);
+    s.pursue(0.25, 3.0);
+    const size_t hi = s.size();
+    s.saccade(4.0);
+    s.fixate(1.0);
+    DetectorParams on;
+    on.pursuit_catch_up = 1;
+    DetectorParams uncapped = on;
+    uncapped.pursuit_join_max_deg = 0.0;
+    for (auto mode : {DetectorMode::kOffline, DetectorMode::kOnline}) {
+        EXPECT_GT(smooth_share(detect(s, on, mode), lo, hi, Event::kFixation), 0.9);
+        EXPECT_GT(smooth_share(detect(s, uncapped, mode), lo, hi, Event::kPursuit), 0.5);
+    }
 }
 
 // The eye overshoots and turns back while its other component keeps moving (a hooked saccade

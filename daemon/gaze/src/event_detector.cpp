@@ -564,6 +564,11 @@ double EventDetector::relative_speed(int64_t c) const {
 }
 
 double EventDetector::window_speed(int64_t lo, int64_t hi) const {
+    const WindowFit f = window_fit(lo, hi);
+    return std::hypot(f.vx(), f.vy());
+}
+
+EventDetector::WindowFit EventDetector::window_fit(int64_t lo, int64_t hi) const {
     std::array<double, 6> sum{};
     const double m = static_cast<double>(hi - lo + 1);
     if (lo / kBlock == hi / kBlock) {
@@ -586,11 +591,99 @@ double EventDetector::window_speed(int64_t lo, int64_t hi) const {
             sum[5] += rt * ry;
         }
     }
-    const double stt = sum[3] - sum[0] * sum[0] / m;
-    if (!(stt > 0)) return 0.0;
-    const double vx = (sum[4] - sum[0] * sum[1] / m) / stt;
-    const double vy = (sum[5] - sum[0] * sum[2] / m) / stt;
-    return std::hypot(vx, vy);
+    WindowFit f;
+    f.stt = sum[3] - sum[0] * sum[0] / m;
+    if (!(f.stt > 0)) return {};
+    f.stx = sum[4] - sum[0] * sum[1] / m;
+    f.sty = sum[5] - sum[0] * sum[2] / m;
+    return f;
+}
+
+double EventDetector::pursuit_threshold(double span, bool was_pursuit) const {
+    // A fixation stays within a bounded area (anti-persistent drift), so its apparent speed
+    // falls as the window grows while pursuit keeps its speed: the threshold scales as
+    // 1/window (pursuit_span_exponent 1), i.e. pursuit_dps x ref (1 deg by default) bounds the
+    // fixation's displacement over the window. Noisier recordings drift more in appearance
+    // too: the floor rises with position noise, always as 1/sqrt(window).
+    const double ref = p_.pursuit_ref_window_s / span;
+    double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent),
+                                p_.pursuit_noise_gain * noise_ * std::sqrt(ref));
+    if (was_pursuit) threshold *= p_.pursuit_hysteresis;
+    return threshold;
+}
+
+bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest,
+                                     bool was_pursuit) const {
+    // The window [lo, hi] failed the bound on its own. Pool it with the intersaccadic piece
+    // across the saccade before it and the one after it (within the +-w_ window around d), each
+    // only if both move at pursuit speed, the piece moves like the window (direction within
+    // pursuit_join_cos, speed within 1 / pursuit_join_ratio) and the saccade between is a
+    // catch-up saccade (the same way, at most pursuit_join_max_deg): pursuit carried on across
+    // it. A fixation after a saccade has ~zero velocity and is not pooled with pursuit next to
+    // it (nor pursuit with it).
+    const WindowFit own = window_fit(lo, hi);
+    const double ovx = own.vx(), ovy = own.vy();
+    const double own_speed = std::hypot(ovx, ovy);
+    // Each piece moves at least at the bound's reference speed on its own: pursuit, only
+    // too short to show it against the displacement bound.
+    const double min_speed = p_.pursuit_dps * p_.pursuit_join_min_speed;
+    if (!(own_speed > 0) || own_speed < min_speed) return false;
+    auto agrees = [&](double vx, double vy) {
+        const double sp = std::hypot(vx, vy);
+        if (!(sp > 0)) return false;
+        const double cos = (vx * ovx + vy * ovy) / (sp * own_speed);
+        return cos > p_.pursuit_join_cos && std::min(sp, own_speed) >= min_speed &&
+               std::min(sp, own_speed) >= p_.pursuit_join_ratio * std::max(sp, own_speed);
+    };
+    auto jump_agrees = [&](const Entry& from, const Entry& to) {
+        const double jx = to.x - from.x, jy = to.y - from.y;
+        const double jn = std::hypot(jx, jy);
+        if (p_.pursuit_join_max_deg > 0 && jn > p_.pursuit_join_max_deg) return false;
+        return jn > 0 && (jx * ovx + jy * ovy) / (jn * own_speed) > p_.pursuit_join_cos;
+    };
+    auto is_jump = [](Label l) { return l == Label::kSaccade || l == Label::kPso; };
+    auto usable = [&](int64_t a, int64_t b) {
+        return b - a + 1 >= 3 && at(b).t - at(a).t >= p_.min_pursuit_window_s;
+    };
+    WindowFit pooled = own;
+    double span = at(hi).t - at(lo).t;
+    bool joined = false;
+    // Before: the window reaches its segment's start, a saccade (and its PSO) precedes it.
+    if (lo == seg_start_ && lo - 1 >= base_ && is_jump(at(lo - 1).label)) {
+        int64_t j = lo - 1;
+        while (j >= base_ && j >= d - w_ && is_jump(at(j).label)) --j;
+        if (j >= base_ && j >= d - w_ && is_inter(at(j).label)) {
+            const int64_t pe = j;
+            while (j - 1 >= base_ && j - 1 >= d - w_ && is_inter(at(j - 1).label)) --j;
+            const WindowFit f = window_fit(j, pe);
+            if (usable(j, pe) && agrees(f.vx(), f.vy()) && jump_agrees(at(pe), at(lo))) {
+                pooled.stt += f.stt;
+                pooled.stx += f.stx;
+                pooled.sty += f.sty;
+                span += at(pe).t - at(j).t;
+                joined = true;
+            }
+        }
+    }
+    // After: the window ends at a saccade, not at its +-w_ reach.
+    if (hi < d + w_ && hi + 1 <= newest && is_jump(at(hi + 1).label)) {
+        int64_t j = hi + 1;
+        while (j <= newest && j <= d + w_ && is_jump(at(j).label)) ++j;
+        if (j <= newest && j <= d + w_ && is_inter(at(j).label)) {
+            const int64_t ns = j;
+            while (j + 1 <= newest && j + 1 <= d + w_ && is_inter(at(j + 1).label)) ++j;
+            const WindowFit f = window_fit(ns, j);
+            if (usable(ns, j) && agrees(f.vx(), f.vy()) && jump_agrees(at(hi), at(ns))) {
+                pooled.stt += f.stt;
+                pooled.stx += f.stx;
+                pooled.sty += f.sty;
+                span += at(j).t - at(ns).t;
+                joined = true;
+            }
+        }
+    }
+    if (!joined || !(span > 0)) return false;
+    return std::hypot(pooled.vx(), pooled.vy()) > pursuit_threshold(span, was_pursuit);
 }
 
 void EventDetector::stage_smooth(int64_t d, int64_t newest) {
@@ -607,19 +700,21 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
     if (hi - lo + 1 < 3 || span < p_.min_pursuit_window_s) {
         // Too little signal to see a slow drift: continue the previous decision.
         e.label = was_pursuit ? Label::kPursuit : Label::kFixation;
+        e.pooled = was_pursuit && at(d - 1).pooled;
         return;
     }
     const double speed = window_speed(lo, hi);
-    // A fixation stays within a bounded area (anti-persistent drift), so its apparent speed
-    // falls as the window grows while pursuit keeps its speed: the threshold scales as
-    // 1/window (pursuit_span_exponent 1), i.e. pursuit_dps x ref (1 deg by default) bounds the
-    // fixation's displacement over the window. Noisier recordings drift more in appearance
-    // too: the floor rises with position noise, always as 1/sqrt(window).
-    const double ref = p_.pursuit_ref_window_s / span;
-    double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent),
-                                p_.pursuit_noise_gain * noise_ * std::sqrt(ref));
-    if (was_pursuit) threshold *= p_.pursuit_hysteresis;
-    e.label = speed > threshold ? Label::kPursuit : Label::kFixation;
+    // Hysteresis continues a test's own decision: a sample that is pursuit only by the
+    // catch-up pooling does not lower the next sample's bar for its own window (else one pooled
+    // sample would carry a fixation's whole remainder into pursuit).
+    const bool own_was_pursuit = was_pursuit && !at(d - 1).pooled;
+    bool pursuit = speed > pursuit_threshold(span, own_was_pursuit);
+    e.pooled = false;
+    if (!pursuit && p_.pursuit_catch_up != 0) {
+        pursuit = catch_up_pursuit(d, lo, hi, newest, was_pursuit);
+        e.pooled = pursuit;
+    }
+    e.label = pursuit ? Label::kPursuit : Label::kFixation;
 }
 
 void EventDetector::microsaccade_velocity(int64_t d) {

@@ -16,7 +16,9 @@
 //   3. the rest (intersaccadic samples) is fixation or pursuit by the eye's speed measured over a
 //      long window that never crosses a saccade: pursuit moves the eye steadily at > ~2 deg/s,
 //      fixational drift and tracker noise average out (this is what the published detectors
-//      lack, see daemon/gaze/README.md);
+//      lack, see daemon/gaze/README.md). A window cut short by a catch-up saccade is pooled
+//      with the piece across it when both move alike and the saccade goes their way
+//      (pursuit_catch_up, below);
 //   4. microsaccades inside the fixations (Engbert & Kliegl 2003): a run of fixation samples
 //      whose velocity leaves the ellipse of lambda = 6 median-based velocity SDs per axis for
 //      at least 6 ms, 20 ms clear of any other event and with a peak above min_peak_dps.
@@ -108,6 +110,31 @@ struct DetectorParams {
     double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
     // The noise floor keeps 1/sqrt(span) whatever this is.
     double pursuit_span_exponent = 1.0;
+    // Pursuit split by catch-up saccades (daemon/eval/README.md, 2026-12-06, later). A window
+    // that fails the bound above because a saccade cuts it short is pooled with the
+    // intersaccadic piece just across each saccade (one on each side, within
+    // +-smooth_half_window_s) when (a) both move at least at the bound's reference speed
+    // (pursuit_join_min_speed x pursuit_dps: pursuit, ~2 deg/s and up, not fixational drift,
+    // ~0.5 deg/s and below), (b) their velocities agree in direction (cosine above
+    // pursuit_join_cos, ~45 deg) and speed (the slower at least pursuit_join_ratio of the
+    // faster), and (c) the saccade between them is a catch-up saccade: it points the window's
+    // way (cosine above pursuit_join_cos) and is small (at most pursuit_join_max_deg).
+    // Catch-up saccades go in the pursuit's direction and leave the smooth velocity as it was,
+    // the eye still following the same target (de Brouwer, Missal, Barnes & Lefevre 2002;
+    // post-saccadic enhancement, Lisberger 1998, raises it by tens of percent, not by a factor
+    // 2), whereas after a saccade to a fixation the eye's velocity is ~0. They make up the
+    // position pursuit lost at a gain below 1: with gain >= 0.8 up to 30 deg/s (above it
+    // pursuit turns saccadic), over smooth_half_window_s that is at most 0.2 x 30 deg/s x 0.4 s
+    // ~ 2.4 deg, hence 2.5 deg. The pooled slope (each piece's own offset removed) over the
+    // pieces' summed span must then pass the same bound. A pooled decision gives the next
+    // sample no hysteresis for its own window. 45 deg, a factor 2 and 1 x pursuit_dps were set
+    // before measuring; the amplitude cap after a look at one video trial (2, 3 and 5 deg score
+    // the same on every dataset); none is fitted. 0: off.
+    int pursuit_catch_up = 1;
+    double pursuit_join_cos = 0.7;
+    double pursuit_join_ratio = 0.5;
+    double pursuit_join_min_speed = 1.0;
+    double pursuit_join_max_deg = 2.5;  // 0: no cap
     // Online: prior for the position noise (a typical video tracker's; daemon/gaze/README.md),
     // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
@@ -247,6 +274,7 @@ private:
         double mvx = kNaN, mvy = kNaN;  // Engbert & Kliegl's moving-average velocity
         bool valid = false;             // measured (not a held dropout value)
         bool lost = false;              // part of a loss long enough to be a blink
+        bool pooled = false;            // pursuit only by the catch-up pooling (no hysteresis)
         Label label = Label::kPending;
         int64_t sacc = -1;            // saccade record id
         std::array<double, 6> cum{};  // running sums t, x, y, tt, tx, ty since the anchor
@@ -294,6 +322,16 @@ private:
     void update_stats(double v, double dt);
     void feed_stats(int64_t i);
     double window_speed(int64_t lo, int64_t hi) const;
+    // Centred sums over [lo, hi]: sum (t - mean t)^2 and sum (t - mean t)(x - mean x), (y ...).
+    struct WindowFit {
+        double stt = 0.0, stx = 0.0, sty = 0.0;
+        double vx() const { return stt > 0 ? stx / stt : 0.0; }
+        double vy() const { return stt > 0 ? sty / stt : 0.0; }
+    };
+    WindowFit window_fit(int64_t lo, int64_t hi) const;
+    bool catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest,
+                          bool was_pursuit) const;
+    double pursuit_threshold(double span, bool was_pursuit) const;
     void update_noise(int64_t c);
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
