@@ -563,11 +563,6 @@ double EventDetector::relative_speed(int64_t c) const {
     return std::hypot(e.vx - lm.vx, e.vy - lm.vy);
 }
 
-double EventDetector::window_speed(int64_t lo, int64_t hi) const {
-    const WindowFit f = window_fit(lo, hi);
-    return std::hypot(f.vx(), f.vy());
-}
-
 EventDetector::WindowFit EventDetector::window_fit(int64_t lo, int64_t hi) const {
     std::array<double, 6> sum{};
     const double m = static_cast<double>(hi - lo + 1);
@@ -613,7 +608,7 @@ double EventDetector::pursuit_threshold(double span, bool was_pursuit) const {
 }
 
 bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest,
-                                     bool was_pursuit) const {
+                                     const WindowFit& own, bool was_pursuit) const {
     // The window [lo, hi] failed the bound on its own. Pool it with the intersaccadic piece
     // across the saccade before it and the one after it (within the +-w_ window around d), each
     // only if both move at pursuit speed, the piece moves like the window (direction within
@@ -621,7 +616,12 @@ bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t 
     // catch-up saccade (the same way, at most pursuit_join_max_deg): pursuit carried on across
     // it. A fixation after a saccade has ~zero velocity and is not pooled with pursuit next to
     // it (nor pursuit with it).
-    const WindowFit own = window_fit(lo, hi);
+    auto is_jump = [](Label l) { return l == Label::kSaccade || l == Label::kPso; };
+    // Before: the window reaches its segment's start, a saccade (and its PSO) precedes it.
+    // After: the window ends at a saccade, not at its +-w_ reach. Most windows have neither.
+    const bool before = lo == seg_start_ && lo - 1 >= base_ && is_jump(at(lo - 1).label);
+    const bool after = hi < d + w_ && hi + 1 <= newest && is_jump(at(hi + 1).label);
+    if (!before && !after) return false;
     const double ovx = own.vx(), ovy = own.vy();
     const double own_speed = std::hypot(ovx, ovy);
     // Each piece moves at least at the bound's reference speed on its own: pursuit, only
@@ -641,15 +641,13 @@ bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t 
         if (p_.pursuit_join_max_deg > 0 && jn > p_.pursuit_join_max_deg) return false;
         return jn > 0 && (jx * ovx + jy * ovy) / (jn * own_speed) > p_.pursuit_join_cos;
     };
-    auto is_jump = [](Label l) { return l == Label::kSaccade || l == Label::kPso; };
     auto usable = [&](int64_t a, int64_t b) {
         return b - a + 1 >= 3 && at(b).t - at(a).t >= p_.min_pursuit_window_s;
     };
     WindowFit pooled = own;
     double span = at(hi).t - at(lo).t;
     bool joined = false;
-    // Before: the window reaches its segment's start, a saccade (and its PSO) precedes it.
-    if (lo == seg_start_ && lo - 1 >= base_ && is_jump(at(lo - 1).label)) {
+    if (before) {
         int64_t j = lo - 1;
         while (j >= base_ && j >= d - w_ && is_jump(at(j).label)) --j;
         if (j >= base_ && j >= d - w_ && is_inter(at(j).label)) {
@@ -665,8 +663,7 @@ bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t 
             }
         }
     }
-    // After: the window ends at a saccade, not at its +-w_ reach.
-    if (hi < d + w_ && hi + 1 <= newest && is_jump(at(hi + 1).label)) {
+    if (after) {
         int64_t j = hi + 1;
         while (j <= newest && j <= d + w_ && is_jump(at(j).label)) ++j;
         if (j <= newest && j <= d + w_ && is_inter(at(j).label)) {
@@ -703,7 +700,8 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
         e.pooled = was_pursuit && at(d - 1).pooled;
         return;
     }
-    const double speed = window_speed(lo, hi);
+    const WindowFit own = window_fit(lo, hi);
+    const double speed = std::hypot(own.vx(), own.vy());
     // Hysteresis continues a test's own decision: a sample that is pursuit only by the
     // catch-up pooling does not lower the next sample's bar for its own window (else one pooled
     // sample would carry a fixation's whole remainder into pursuit).
@@ -711,7 +709,7 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
     bool pursuit = speed > pursuit_threshold(span, own_was_pursuit);
     e.pooled = false;
     if (!pursuit && p_.pursuit_catch_up != 0) {
-        pursuit = catch_up_pursuit(d, lo, hi, newest, was_pursuit);
+        pursuit = catch_up_pursuit(d, lo, hi, newest, own, was_pursuit);
         e.pooled = pursuit;
     }
     e.label = pursuit ? Label::kPursuit : Label::kFixation;

@@ -321,7 +321,6 @@ private:
     void mark_blink_back(int64_t c);
     void update_stats(double v, double dt);
     void feed_stats(int64_t i);
-    double window_speed(int64_t lo, int64_t hi) const;
     // Centred sums over [lo, hi]: sum (t - mean t)^2 and sum (t - mean t)(x - mean x), (y ...).
     struct WindowFit {
         double stt = 0.0, stx = 0.0, sty = 0.0;
@@ -329,7 +328,9 @@ private:
         double vy() const { return stt > 0 ? sty / stt : 0.0; }
     };
     WindowFit window_fit(int64_t lo, int64_t hi) const;
-    bool catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest,
+    // Pursuit by pooling the window [lo, hi] (its fit `own`) with the pieces across the
+    // catch-up saccades next to it (pursuit_catch_up).
+    bool catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest, const WindowFit& own,
                           bool was_pursuit) const;
     double pursuit_threshold(double span, bool was_pursuit) const;
     void update_noise(int64_t c);
