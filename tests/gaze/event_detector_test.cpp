@@ -470,6 +470,20 @@ TEST_P(MicrosaccadeRates, OfflineLabelsAMicrosaccadeAndNotNoise) {
 
 INSTANTIATE_TEST_SUITE_P(Rates, MicrosaccadeRates, ::testing::Values(250.0, 500.0, 1000.0));
 
+// 20 s of a still eye under 0.25-deg noise per axis (a webcam tracker's) at `rate`.
+std::vector<DetectorInput> loud_noise(double rate, uint64_t seed) {
+    std::vector<DetectorInput> in;
+    for (int i = 0; i < int(20.0 * rate); ++i) {
+        DetectorInput d;
+        d.t_s = i / rate;
+        d.valid = true;
+        d.x_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+        d.y_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+        in.push_back(d);
+    }
+    return in;
+}
+
 // At the ends of the supported range the stage adds nothing on noise alone: at 60 Hz one sample
 // already spans E&K's 6 ms and their velocity window is a single sample either side; at 2000 Hz
 // the window is 8 samples either side. 20 s per seed of noise loud enough (0.25 deg per axis, a
@@ -484,15 +498,7 @@ TEST(EventDetector, MicrosaccadeStageAddsNothingOnNoiseAt60And2000Hz) {
     for (double rate : {60.0, 2000.0}) {
         for (uint64_t seed : {5u, 17u, 31u}) {
             SCOPED_TRACE(::testing::Message() << rate << " Hz, seed " << seed);
-            std::vector<DetectorInput> in;
-            for (int i = 0; i < int(20.0 * rate); ++i) {
-                DetectorInput d;
-                d.t_s = i / rate;
-                d.valid = true;
-                d.x_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
-                d.y_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
-                in.push_back(d);
-            }
+            const std::vector<DetectorInput> in = loud_noise(rate, seed);
             const auto with_stage = EventDetector::detect_offline(in, {}, rate);
             ASSERT_EQ(with_stage.size(), in.size());
             EXPECT_EQ(saccades(with_stage),
@@ -582,15 +588,7 @@ TEST(EventDetector, OnlineMicrosaccadeStageAddsNothingOnNoiseAt60And2000Hz) {
     for (double rate : {60.0, 2000.0}) {
         for (uint64_t seed : {5u, 17u, 31u}) {
             SCOPED_TRACE(::testing::Message() << rate << " Hz, seed " << seed);
-            std::vector<DetectorInput> in;
-            for (int i = 0; i < int(20.0 * rate); ++i) {
-                DetectorInput d;
-                d.t_s = i / rate;
-                d.valid = true;
-                d.x_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
-                d.y_deg = 0.25 * (test::noise(seed) + test::noise(seed) + test::noise(seed));
-                in.push_back(d);
-            }
+            const std::vector<DetectorInput> in = loud_noise(rate, seed);
             const auto with_stage = run_online(in, {}, rate);
             ASSERT_EQ(with_stage.size(), in.size());
             EXPECT_EQ(saccades(with_stage), saccades(run_online(in, without, rate)));

@@ -647,20 +647,23 @@ bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t 
     WindowFit pooled = own;
     double span = at(hi).t - at(lo).t;
     bool joined = false;
+    // Pools the piece [a, b] across the saccade from `from` to `to` if it moves like the window.
+    auto join = [&](int64_t a, int64_t b, const Entry& from, const Entry& to) {
+        const WindowFit f = window_fit(a, b);
+        if (!(usable(a, b) && agrees(f.vx(), f.vy()) && jump_agrees(from, to))) return;
+        pooled.stt += f.stt;
+        pooled.stx += f.stx;
+        pooled.sty += f.sty;
+        span += at(b).t - at(a).t;
+        joined = true;
+    };
     if (before) {
         int64_t j = lo - 1;
         while (j >= base_ && j >= d - w_ && is_jump(at(j).label)) --j;
         if (j >= base_ && j >= d - w_ && is_inter(at(j).label)) {
             const int64_t pe = j;
             while (j - 1 >= base_ && j - 1 >= d - w_ && is_inter(at(j - 1).label)) --j;
-            const WindowFit f = window_fit(j, pe);
-            if (usable(j, pe) && agrees(f.vx(), f.vy()) && jump_agrees(at(pe), at(lo))) {
-                pooled.stt += f.stt;
-                pooled.stx += f.stx;
-                pooled.sty += f.sty;
-                span += at(pe).t - at(j).t;
-                joined = true;
-            }
+            join(j, pe, at(pe), at(lo));
         }
     }
     if (after) {
@@ -669,14 +672,7 @@ bool EventDetector::catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t 
         if (j <= newest && j <= d + w_ && is_inter(at(j).label)) {
             const int64_t ns = j;
             while (j + 1 <= newest && j + 1 <= d + w_ && is_inter(at(j + 1).label)) ++j;
-            const WindowFit f = window_fit(ns, j);
-            if (usable(ns, j) && agrees(f.vx(), f.vy()) && jump_agrees(at(hi), at(ns))) {
-                pooled.stt += f.stt;
-                pooled.stx += f.stx;
-                pooled.sty += f.sty;
-                span += at(j).t - at(ns).t;
-                joined = true;
-            }
+            join(ns, j, at(hi), at(ns));
         }
     }
     if (!joined || !(span > 0)) return false;
