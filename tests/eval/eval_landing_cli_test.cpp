@@ -70,6 +70,14 @@ TEST(EvalLandingCli, HeldOutByDatasetPerRateBeatsCurrentPositionAtHalfTheSaccade
             EXPECT_LT(big["50"]["held_out"].get<double>(), big["50"]["current"].get<double>())
                 << name << " " << rate << " Hz";
             EXPECT_TRUE(big["50"]["oracle_fraction_known"].is_number()) << name << " " << rate;
+            // The verdict is the held-out median against the target, as the table prints it.
+            for (const char* q : {"50", "75"}) {
+                EXPECT_EQ(big[q]["target_met"].get<bool>(),
+                          big[q]["held_out"].get<double>() <= big[q]["target_deg"].get<double>())
+                    << name << " " << rate << " " << q;
+            }
+            EXPECT_NEAR(big["50"]["target_deg"].get<double>(),
+                        big["50"]["oracle_fraction_known"].get<double>() + 0.25, 1e-9);
         }
     }
     EXPECT_GE(groups, 4);  // eyelink 500/1000, gazecom 250, lund2013 200/500
@@ -80,8 +88,8 @@ TEST(EvalLandingCli, HeldOutByDatasetPerRateBeatsCurrentPositionAtHalfTheSaccade
     for (const Floor& f : {Floor{"lund2013", "500", 1.64 + 0.05, 0.97 + 0.05},
                            Floor{"lund2013", "200", 2.80 + 0.10, 1.55 + 0.10},
                            Floor{"gazecom", "250", 1.13 + 0.10, 1.36 + 0.10},
-                           Floor{"eyelink", "500", 1.44 + 0.10, 1.81 + 0.10},
-                           Floor{"eyelink", "1000", 2.70 + 0.10, 1.07 + 0.10}}) {
+                           Floor{"eyelink", "500", 1.21 + 0.10, 1.44 + 0.10},
+                           Floor{"eyelink", "1000", 2.58 + 0.10, 1.04 + 0.10}}) {
         const auto& big = j["datasets"][f.dataset]["rates"][f.rate]["gt5"];
         ASSERT_TRUE(big.is_object()) << f.dataset << " " << f.rate << " Hz";
         EXPECT_LT(big["50"]["held_out"].get<double>(), f.at50) << f.dataset << " " << f.rate;
