@@ -111,6 +111,7 @@ namespace {
 // at t_s[to - 1].
 struct Line {
     double slope, end_value;
+    double mean_t, mean_value;  // the fit's centre: the slope is the speed there
 };
 Line fit_line(std::span<const double> t_s, const double* along, size_t from, size_t to) {
     const double m = static_cast<double>(to - from);
@@ -126,9 +127,9 @@ Line fit_line(std::span<const double> t_s, const double* along, size_t from, siz
         stt += (t_s[i] - tm) * (t_s[i] - tm);
         stp += (t_s[i] - tm) * (along[i] - pm);
     }
-    if (!(stt > 0)) return {kNaN, kNaN};
+    if (!(stt > 0)) return {kNaN, kNaN, kNaN, kNaN};
     const double slope = stp / stt;
-    return {slope, pm + slope * (t_s[to - 1] - tm)};
+    return {slope, pm + slope * (t_s[to - 1] - tm), tm, pm};
 }
 
 }  // namespace
@@ -169,13 +170,20 @@ LandingObservation LandingPredictor::observe(std::span<const double> t_s,
         if (std::isfinite(s)) peak = std::max(peak, s);
     }
 
-    const double a_profile = amplitude_from_profile(t_now, d, v);
-    const double a_decel = amplitude_from_deceleration(t_now, d, v);
-    const double a_peak = amplitude_from_peak(t_now, d, v, peak);
-    const bool peaked = std::isfinite(a_peak);
-    const double amp =
-        peaked ? std::cbrt(a_profile * a_decel * a_peak) : std::sqrt(a_profile * a_decel);
+    auto combined = [&](double t, double dist) {
+        const double a_profile = amplitude_from_profile(t, dist, v);
+        const double a_decel = amplitude_from_deceleration(t, dist, v);
+        const double a_peak = amplitude_from_peak(t, dist, v, peak);
+        return std::isfinite(a_peak) ? std::cbrt(a_profile * a_decel * a_peak)
+                                     : std::sqrt(a_profile * a_decel);
+    };
+    // The prediction: the newest displacement with the line's (older) slope.
+    const double amp = combined(t_now, d);
     if (!std::isfinite(amp)) return obs;
+    // The late correction's phase (landing.hpp): also the estimates at the line's mean time,
+    // where displacement, speed and time belong to one instant.
+    const double amp_mean = combined(now.mean_t, std::max(1e-3, now.mean_value));
+    const double phase_amp = std::isfinite(amp_mean) ? std::sqrt(amp * amp_mean) : amp;
     obs.valid = true;
     obs.x0_deg = x0;
     obs.y0_deg = y0;
@@ -186,7 +194,8 @@ LandingObservation LandingPredictor::observe(std::span<const double> t_s,
     obs.speed_dps = v;
     obs.peak_speed_dps = std::max(peak, v);
     obs.base_amplitude_deg = amp;
-    obs.base_fraction = std::min(1.0, t_now / duration_s(amp));
+    obs.phase_amplitude_deg = phase_amp;
+    obs.base_fraction = std::min(1.0, t_now / duration_s(phase_amp));
     return obs;
 }
 

@@ -15,6 +15,15 @@
 // Late in flight (predicted elapsed fraction >= ~0.65) the base prediction overshoots when it
 // still expects much distance to go, and undershoots while the eye is still fast: a 3-constant
 // log-linear late correction (LateCorrection), fitted on labelled saccades, fixes most of that.
+// The correction ramps in with the phase t / D(A_phase), A_phase the geometric mean of the base
+// prediction and the same three estimates taken at the speed fit's mean time: the line fit's
+// slope is the speed ~1.5 sample intervals before the newest sample, so the base estimates pair
+// the newest displacement with an older, faster speed in the slow-down. That lag grows as the
+// rate falls (3 ms at 500 Hz, 6-7.5 ms at 200-250 Hz) and overshoots late in flight, which kept
+// the phase low and the correction off at 200-250 Hz; the estimates at the mean time (one
+// instant's displacement, speed and time) undershoot at mid-flight instead. Opposite biases are
+// combined as the three estimates are, by a geometric mean; the prediction itself keeps the
+// base estimates (with the mean-time ones the 50 % point is worse: daemon/eval/README.md).
 // `fovea eval-landing --cv dataset` refits it without each dataset; the measurements behind the
 // constants below are in daemon/eval/README.md ("Landing").
 #pragma once
@@ -57,14 +66,14 @@ struct LandingParams {
     double position_noise_deg = 0.1;
     // Late correction: log(A / A_base) = bias + displacement x d / A_base + speed x v / Vp
     // (d covered distance, v current and Vp highest speed so far), blended in linearly as the
-    // base prediction's elapsed fraction goes from late_from to late_full (fitted where it is
-    // >= 0.65; the ramp avoids a jump there). Least absolute log error over labelled saccades
-    // > 2 deg at 15-95 % of their durations (fit_late_correction; `fovea eval-landing --cv`
-    // reproduces the constants). A_base overshoots when it still expects much distance this
+    // phase (LandingObservation::base_fraction) goes from late_from to late_full (fitted where
+    // it is >= 0.65; the ramp avoids a jump there). Least absolute log error over labelled
+    // saccades > 2 deg at 15-95 % of their durations (fit_late_correction; `fovea eval-landing
+    // --cv` reproduces the constants). A_base overshoots when it still expects much distance this
     // late (d / A_base small: up to ~1/4 pulled back) and undershoots while the eye is fast.
-    double late_bias = -1.359;
-    double late_displacement = 1.371;
-    double late_speed = 0.259;
+    double late_bias = -1.353;
+    double late_displacement = 1.359;
+    double late_speed = 0.246;
     double late_from = 0.60;
     double late_full = 0.70;
     // Pushes beyond A_base are capped (log units): the labels reward pushes (the coders include
@@ -83,7 +92,10 @@ struct LandingObservation {
     double speed_dps = 0.0;           // same fit's slope
     double peak_speed_dps = 0.0;      // highest earlier fit slope (>= speed_dps)
     double base_amplitude_deg = 0.0;  // geometric mean of the three estimates
-    double base_fraction = 0.0;       // elapsed / D(base amplitude), <= 1
+    // Geometric mean of the base amplitude and the three estimates at the speed fit's mean
+    // time; the late correction's phase is elapsed / D(phase amplitude), <= 1.
+    double phase_amplitude_deg = 0.0;
+    double base_fraction = 0.0;
 };
 
 // One training row of the late correction: an observation and the amplitude along its
