@@ -143,9 +143,9 @@ TEST(LandingPredictor, LateCorrectionRampsInWithTheElapsedFraction) {
     obs.speed_dps = 200.0;
     obs.peak_speed_dps = 400.0;
     obs.base_amplitude_deg = 10.0;
-    obs.base_fraction = 0.3;
+    obs.phase_fraction = 0.3;
     EXPECT_NEAR(p.estimate(obs).amplitude_deg, 10.0, 1e-12);
-    obs.base_fraction = 0.9;
+    obs.phase_fraction = 0.9;
     const double expected = 10.0 * std::exp(params.late_bias + params.late_displacement * 0.4 +
                                             params.late_speed * 0.5);
     EXPECT_NEAR(p.estimate(obs).amplitude_deg, expected, 1e-9);
@@ -179,14 +179,14 @@ TEST(LandingPredictor, LateCorrectionFitRecoversConstantsDespiteOutliers) {
         r.obs.displacement_deg = r.obs.base_amplitude_deg * (0.5 + 0.5 * uniform());
         r.obs.peak_speed_dps = 400.0;
         r.obs.speed_dps = 400.0 * uniform();
-        r.obs.base_fraction = 0.7 + 0.3 * uniform();
+        r.obs.phase_fraction = 0.7 + 0.3 * uniform();
         const double log_ratio = bias + disp * r.obs.displacement_deg / r.obs.base_amplitude_deg +
                                  speed * r.obs.speed_dps / r.obs.peak_speed_dps;
         r.landed_along_deg = r.obs.base_amplitude_deg * std::exp(log_ratio);
         if (k % 4 == 0) r.landed_along_deg *= 3.0;  // outlier
         rows.push_back(r);
         if (k % 2 == 0) {  // too early: must not enter the fit
-            r.obs.base_fraction = 0.2;
+            r.obs.phase_fraction = 0.2;
             r.landed_along_deg *= 5.0;
             rows.push_back(r);
         }

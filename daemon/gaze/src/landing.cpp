@@ -195,7 +195,7 @@ LandingObservation LandingPredictor::observe(std::span<const double> t_s,
     obs.peak_speed_dps = std::max(peak, v);
     obs.base_amplitude_deg = amp;
     obs.phase_amplitude_deg = phase_amp;
-    obs.base_fraction = std::min(1.0, t_now / duration_s(phase_amp));
+    obs.phase_fraction = std::min(1.0, t_now / duration_s(phase_amp));
     return obs;
 }
 
@@ -219,7 +219,7 @@ LandingEstimate LandingPredictor::estimate(const LandingObservation& obs) const 
     LandingEstimate est;
     if (!obs.valid) return est;
     double amp = obs.base_amplitude_deg;
-    const double w = late_weight(obs.base_fraction);
+    const double w = late_weight(obs.phase_fraction);
     if (w > 0.0) {
         const auto x = late_features(obs);
         const double log_ratio =
@@ -261,7 +261,7 @@ LateCorrection LandingPredictor::fit_late_correction(
     std::vector<double> y;
     for (const auto& r : rows) {
         const auto& o = r.obs;
-        if (!o.valid || o.base_fraction < from || !(o.base_amplitude_deg > 0.0)) continue;
+        if (!o.valid || o.phase_fraction < from || !(o.base_amplitude_deg > 0.0)) continue;
         // A landing behind the covered distance (a curved or returning track) counts as
         // landing just past it.
         const double landed = std::max(r.landed_along_deg, o.displacement_deg + 0.02);

@@ -66,7 +66,7 @@ struct LandingParams {
     double position_noise_deg = 0.1;
     // Late correction: log(A / A_base) = bias + displacement x d / A_base + speed x v / Vp
     // (d covered distance, v current and Vp highest speed so far), blended in linearly as the
-    // phase (LandingObservation::base_fraction) goes from late_from to late_full (fitted where
+    // phase (LandingObservation::phase_fraction) goes from late_from to late_full (fitted where
     // it is >= 0.65; the ramp avoids a jump there). Least absolute log error over labelled
     // saccades > 2 deg at 15-95 % of their durations (fit_late_correction; `fovea eval-landing
     // --cv` reproduces the constants). A_base overshoots when it still expects much distance this
@@ -93,9 +93,9 @@ struct LandingObservation {
     double peak_speed_dps = 0.0;      // highest earlier fit slope (>= speed_dps)
     double base_amplitude_deg = 0.0;  // geometric mean of the three estimates
     // Geometric mean of the base amplitude and the three estimates at the speed fit's mean
-    // time; the late correction's phase is elapsed / D(phase amplitude), <= 1.
+    // time, and the late correction's phase: elapsed / D(phase amplitude), <= 1.
     double phase_amplitude_deg = 0.0;
-    double base_fraction = 0.0;
+    double phase_fraction = 0.0;
 };
 
 // One training row of the late correction: an observation and the amplitude along its
@@ -129,10 +129,10 @@ public:
     LandingObservation observe(std::span<const double> t_s, std::span<const double> x_deg,
                                std::span<const double> y_deg) const;
     LandingEstimate estimate(const LandingObservation& obs) const;
-    // Weight of the late correction at a base fraction (0 before late_from, 1 from late_full).
-    double late_weight(double base_fraction) const;
+    // Weight of the late correction at a phase (0 before late_from, 1 from late_full).
+    double late_weight(double phase_fraction) const;
     // Least-absolute-log-error fit of the late correction's three constants over the rows whose
-    // base fraction is past the ramp's midpoint (IRLS); the other constants stay as they are.
+    // phase is past the ramp's midpoint (IRLS); the other constants stay as they are.
     LateCorrection fit_late_correction(std::span<const LateCorrectionRow> rows) const;
 
     double duration_s(double amplitude_deg) const;
