@@ -12,7 +12,7 @@
 // fraction no causal predictor knows, and fitted in-sample, it shows how much of the error the
 // first part of a saccade cannot resolve from its displacement alone. It is not a bound where the
 // profile's shape scatters (low rates put the newest sample anywhere within one interval of the
-// nominal fraction; EyeLink's parser onsets lead the movement by several samples): there the
+// nominal fraction; EyeLink's saccades start slowly and end after the overshoot): there the
 // predictor's speed information beats it. Each dataset and rate row ends with whether it meets the
 // targets at 50 and 75 % (JSON: gt5.<50|75>.target_deg and target_met).
 #include <algorithm>
