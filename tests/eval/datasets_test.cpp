@@ -266,5 +266,34 @@ TEST(Asc, ParserEventsBecomeOneCoderPerEye) {
     EXPECT_FALSE(load_asc_dir((none.path() / "x").string()).ok());
 }
 
+// --decimate: every factor-th sample and label from the first, labels staying aligned with
+// their samples; the rate follows; a factor of 0 or 1 leaves the recording as it is.
+TEST(Decimate, KeepsEveryNthSampleWithItsLabelsAndDividesTheRate) {
+    Recording r;
+    r.rate_hz = 500.0;
+    std::vector<gaze::Event> labels;
+    for (int i = 0; i < 10; ++i) {
+        gaze::RawSample s;
+        s.device_ticks = static_cast<uint64_t>(i) * 2000;
+        r.samples.push_back(s);
+        labels.push_back(i % 2 ? gaze::Event::kSaccade : gaze::Event::kFixation);
+    }
+    r.coders["a"] = labels;
+    r.coders["b"] = std::vector<gaze::Event>(10, gaze::Event::kPursuit);
+    Recording same = r;
+    decimate(same, 1);
+    decimate(same, 0);
+    EXPECT_EQ(same.samples.size(), 10u);
+    EXPECT_EQ(same.rate_hz, 500.0);
+    decimate(r, 3);
+    ASSERT_EQ(r.samples.size(), 4u);  // 0, 3, 6, 9
+    EXPECT_EQ(r.rate_hz, 500.0 / 3.0);
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(r.samples[i].device_ticks, i * 3 * 2000);
+        EXPECT_EQ(r.coders["a"][i], i % 2 ? gaze::Event::kSaccade : gaze::Event::kFixation);
+    }
+    EXPECT_EQ(r.coders["b"].size(), 4u);
+}
+
 }  // namespace
 }  // namespace fovea::eval

@@ -170,4 +170,16 @@ Result<DatasetSet> load_datasets(const std::string& root) {
     return out;
 }
 
+void decimate(Recording& r, size_t factor) {
+    if (factor <= 1) return;
+    auto keep_every = [factor](auto& v) {
+        size_t kept = 0;
+        for (size_t i = 0; i < v.size(); i += factor) v[kept++] = v[i];
+        v.resize(kept);
+    };
+    keep_every(r.samples);
+    for (auto& [coder, labels] : r.coders) keep_every(labels);
+    r.rate_hz /= static_cast<double>(factor);
+}
+
 }  // namespace fovea::eval

@@ -47,6 +47,7 @@ constexpr Field kFields[] = {
     {"pursuit_join_max_deg", &DetectorParams::pursuit_join_max_deg},
     {"noise_prior_deg", &DetectorParams::noise_prior_deg},
     {"noise_prior_samples", &DetectorParams::noise_prior_samples},
+    {"noise_reference_s", &DetectorParams::noise_reference_s},
     {"min_pursuit_window_s", &DetectorParams::min_pursuit_window_s},
     {"pursuit_hysteresis", &DetectorParams::pursuit_hysteresis},
     {"min_blink_s", &DetectorParams::min_blink_s},

@@ -40,8 +40,14 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     ms_refresh_ = samples_for(0.010, rate_, 1);
     ms_warmup_ = std::max(0.0, p_.microsaccade_warmup_values) * 2.0 * km_;
     stats_delay_ = samples_for(p_.blink_pre_s, rate_, 1) + 2;
+    // The noise lags bracket the reference step; below one sample the first two extrapolate.
+    noise_ref_lag_ = p_.noise_reference_s > 0.0 ? std::max(1e-3, p_.noise_reference_s * rate_)
+                                                : 1.0;  // 0: per sample, whatever the rate
+    noise_lag_[0] = std::max(1, static_cast<int>(std::floor(noise_ref_lag_ + 1e-9)));
+    noise_lag_[1] = noise_lag_[0] + 1;
     if (mode_ == DetectorMode::kOnline) {
         noise_ = p_.noise_prior_deg;
+        noise_lag_mean_ = {noise_, noise_};
         noise_weight_ = std::max(0.0, p_.noise_prior_samples);
     }
     peak_ = p_.initial_peak_dps;
@@ -418,19 +424,34 @@ void EventDetector::end_saccade(int64_t last) {
 }
 
 void EventDetector::update_noise(int64_t c) {
-    // Position noise: second difference, blind to steady pursuit. Sampled as soon as a sample
-    // is intersaccadic so short recordings warm up quickly.
-    if (c - 1 < base_ || c + 1 >= n_) return;
-    const Entry& a = at(c - 1);
-    const Entry& e = at(c);
-    const Entry& b = at(c + 1);
-    if (!a.valid || !b.valid || !e.valid) return;
-    const double d2 = std::hypot(b.x - 2 * e.x + a.x, b.y - 2 * e.y + a.y);
-    if (noise_sink_) noise_sink_->push_back(d2);
-    if (mode_ == DetectorMode::kOnline && d2 < 1.0) {
-        noise_weight_ += 1.0;
-        noise_ += (d2 - noise_) / std::min(noise_weight_, 4096.0);
+    // Position noise: second difference, blind to steady pursuit, at both noise lags. Sampled as
+    // soon as a sample is intersaccadic so short recordings warm up quickly.
+    std::array<double, 2> d2{};
+    for (int l = 0; l < 2; ++l) {
+        const int k = noise_lag_[l];
+        if (c - k < base_ || c + k >= n_) return;
+        const Entry& a = at(c - k);
+        const Entry& e = at(c);
+        const Entry& b = at(c + k);
+        if (!a.valid || !b.valid || !e.valid) return;
+        d2[l] = std::hypot(b.x - 2 * e.x + a.x, b.y - 2 * e.y + a.y);
     }
+    if (noise_sink_) noise_sink_->push_back(d2);
+    if (mode_ == DetectorMode::kOnline && d2[0] < 1.0 && d2[1] < 1.0) {
+        noise_weight_ += 1.0;
+        const double gain = 1.0 / std::min(noise_weight_, 4096.0);
+        for (int l = 0; l < 2; ++l) noise_lag_mean_[l] += (d2[l] - noise_lag_mean_[l]) * gain;
+        noise_ = noise_at_reference(noise_lag_mean_[0], noise_lag_mean_[1]);
+    }
+}
+
+double EventDetector::noise_at_reference(double m1, double m2) const {
+    if (!(m1 > 0.0) || !(m2 > 0.0)) return m1;
+    const double k1 = noise_lag_[0], k2 = noise_lag_[1];
+    if (noise_ref_lag_ == k1) return m1;
+    // |d2| ~ lag^(alpha / 2), alpha from the two lags (0: white noise, 2: smooth motion).
+    const double alpha = std::clamp(2.0 * std::log(m2 / m1) / std::log(k2 / k1), 0.0, 2.0);
+    return m1 * std::pow(noise_ref_lag_ / k1, 0.5 * alpha);
 }
 
 void EventDetector::stage_saccades(int64_t c) {
@@ -985,7 +1006,7 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         EventDetector d(params, nominal_rate_hz, DetectorMode::kOffline);
         d.set_thresholds(t);
         d.velocity_sink_ = &v;
-        std::vector<double> noise;
+        std::vector<std::array<double, 2>> noise;
         d.noise_sink_ = &noise;
         if (pass == 0) d.ms_sink_ = &ms;  // the velocities do not depend on the labels
         DetectorOutput out;
@@ -996,15 +1017,17 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         d.flush();
         while (d.pop(out)) {}
         VelocityThresholds next = nh_iterate(v, params, params.stats_bound_dps);
-        double sum = 0;
+        std::array<double, 2> sum{};
         size_t m = 0;
-        for (double x : noise) {
-            if (x < 1.0) {
-                sum += x;
+        for (const auto& x : noise) {
+            if (x[0] < 1.0 && x[1] < 1.0) {
+                sum[0] += x[0];
+                sum[1] += x[1];
                 ++m;
             }
         }
-        next.noise_deg = m ? sum / static_cast<double>(m) : t.noise_deg;
+        const double count = static_cast<double>(m);
+        next.noise_deg = m ? d.noise_at_reference(sum[0] / count, sum[1] / count) : t.noise_deg;
         const bool done = std::fabs(next.peak_dps - t.peak_dps) < 0.5;
         t = next;
         if (done) break;

@@ -81,6 +81,11 @@ struct DatasetSet {
 };
 Result<DatasetSet> load_datasets(const std::string& root);
 
+// Every `factor`-th sample of the recording and of each coder's labels, from the first: what a
+// tracker running at rate_hz / factor would have delivered of the same eye movements (no
+// anti-alias filter: a camera samples, it does not average). The rate becomes rate_hz / factor.
+void decimate(Recording& r, size_t factor);
+
 // Gaze of a sample in degrees from the display centre: the mean of the valid eyes, the same
 // combination the gaze chain's detector sees (gaze/pipeline.hpp). NaN when no eye is valid.
 struct Degrees {

@@ -139,6 +139,16 @@ struct DetectorParams {
     // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
     double noise_prior_samples = 200.0;
+    // The position noise behind the pursuit floor is the mean |second difference| over this time
+    // step, whatever the sampling rate: the eye drifts, and a tracker's samples are correlated,
+    // so the per-sample second difference grows as the interval does (lund2013 x1.6 at half its
+    // rate, x2.7 at a quarter; EyeLink 1000 Hz x2.6 / x5.0; daemon/eval/README.md), and a floor on
+    // it would call slow pursuit fixation at low rates. Measured at the two lags around the step
+    // (below one sample, the first two), it is interpolated, or extrapolated, as the power law
+    // |d2| ~ lag^(alpha / 2) that the labelled recordings follow (alpha 0-2: white noise to
+    // smooth motion). 2 ms: one sample at 500 Hz, where the floor's gain was chosen. 0: one
+    // sample at any rate (before 2026-12-06, stop 41).
+    double noise_reference_s = 0.002;
     double min_pursuit_window_s = 0.03;  // shorter windows keep the previous decision
     double pursuit_hysteresis = 0.5;     // leave pursuit below this x threshold
     double min_blink_s = 0.016;          // shorter tracking losses are dropouts, not blinks
@@ -334,6 +344,8 @@ private:
                           bool was_pursuit) const;
     double pursuit_threshold(double span, bool was_pursuit) const;
     void update_noise(int64_t c);
+    // Mean |second difference| at the reference step from the means at the two lags.
+    double noise_at_reference(double at_lag1, double at_lag2) const;
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
     void advance(bool flushing);
@@ -414,9 +426,14 @@ private:
     double post_t0_ = 0.0;
     std::deque<Record> records_;
     std::vector<double>* velocity_sink_ = nullptr;
-    std::vector<double>* noise_sink_ = nullptr;
-    std::vector<std::array<double, 2>>* ms_sink_ = nullptr;  // every sample's (mvx, mvy)
-    double noise_ = 0.05, noise_weight_ = 0.0;               // velocities(): collects every value
+    std::vector<std::array<double, 2>>* noise_sink_ = nullptr;  // |d2| at both noise lags
+    std::vector<std::array<double, 2>>* ms_sink_ = nullptr;     // every sample's (mvx, mvy)
+    // Online: running mean |second difference| at the two noise lags; noise_ is their value
+    // at the reference step (noise_reference_s), which the pursuit floor uses.
+    double noise_ = 0.05, noise_weight_ = 0.0;
+    std::array<double, 2> noise_lag_mean_{0.05, 0.05};
+    int noise_lag_[2] = {1, 2};
+    double noise_ref_lag_ = 1.0;  // the reference step in samples
 };
 
 }  // namespace fovea::gaze
