@@ -295,5 +295,41 @@ TEST(Decimate, KeepsEveryNthSampleWithItsLabelsAndDividesTheRate) {
     EXPECT_EQ(r.coders["b"].size(), 4u);
 }
 
+// --add-noise-deg: Gaussian offsets of the given SD per axis in degrees, the same to both
+// eyes, none to invalid samples; the same seed gives the same noise; SD 0 changes nothing.
+TEST(AddWhiteNoise, OffsetsInDegreesHaveTheSdAndBothEyesShareThem) {
+    Recording r;
+    r.display.width_px = 1920;
+    r.display.height_px = 1080;
+    for (int i = 0; i < 20000; ++i) {
+        gaze::RawSample s;
+        s.left = {0.5, 0.5, 0.0, true};
+        s.right = {0.5, 0.5, 0.0, i % 10 != 0};
+        r.samples.push_back(s);
+    }
+    Recording same = r, again = r;
+    add_white_noise(same, 0.0, 1);
+    EXPECT_EQ(same.samples[7].left.x, 0.5);
+    add_white_noise(r, 0.1, 7);
+    add_white_noise(again, 0.1, 7);
+    double sum2 = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < r.samples.size(); ++i) {
+        const auto& s = r.samples[i];
+        EXPECT_EQ(s.left.x, again.samples[i].left.x);
+        double x, y, cx, cy;
+        r.display.to_degrees(s.left.x, s.left.y, x, y);
+        r.display.to_degrees(0.5, 0.5, cx, cy);
+        sum2 += (x - cx) * (x - cx) + (y - cy) * (y - cy);
+        n += 2;
+        if (s.right.valid) {
+            EXPECT_DOUBLE_EQ(s.right.x, s.left.x);
+        } else {
+            EXPECT_EQ(s.right.x, 0.5);
+        }
+    }
+    EXPECT_NEAR(std::sqrt(sum2 / static_cast<double>(n)), 0.1, 0.005);
+}
+
 }  // namespace
 }  // namespace fovea::eval

@@ -1,12 +1,13 @@
 // `fovea eval-events DIR [--mode online|offline] [--json] [--cv dataset] [--detector K=V]...
-// [--decimate N]`:
+// [--decimate N] [--add-noise-deg SD]`:
 // agreement of the gaze chain's events with hand-labelled recordings, every dataset found under DIR
 // (one dataset's folder or ../shared/data) scored on its own: Cohen's kappa per sample and event
 // (Andersson et al. 2017), sample F1 and event F1 (IoU >= 0.5; Hooge et al. 2018, Startsev et al.
 // 2019), per stimulus type and coder, next to the coders' agreement with each other. `--cv dataset`
 // refits the detector's fitted constants without each dataset and scores it with them (held out)
 // beside the shipped constants (in sample). `--decimate N` scores every recording at 1/N of its
-// rate (every N-th sample and label), as a slower tracker would have seen the same eye movements.
+// rate (every N-th sample and label), as a slower tracker would have seen the same eye movements;
+// `--add-noise-deg SD` through a noisier one.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,7 +39,8 @@ struct Options {
     std::vector<std::string> detector;  // KEY=VALUE overrides of DetectorParams
     std::vector<std::string> cv_pin;    // fitted constants the folds keep at the shipped value
     int threads = 0;
-    size_t decimate = 1;  // keep every N-th sample: the same eye movements at rate / N
+    size_t decimate = 1;         // keep every N-th sample: the same eye movements at rate / N
+    double add_noise_deg = 0.0;  // white noise per axis: the same eye movements, noisier tracker
 };
 
 struct Published {
@@ -284,8 +286,13 @@ int run(const Options& o) {
         return 1;
     }
     for (const auto& n : set->notes) std::fprintf(stderr, "note: %s\n", n.c_str());
-    for (auto& d : set->datasets)
-        for (auto& r : d.recordings) eval::decimate(r, o.decimate);
+    for (auto& d : set->datasets) {
+        uint64_t seed = 1;  // one stream per recording, the same on every run
+        for (auto& r : d.recordings) {
+            eval::decimate(r, o.decimate);
+            eval::add_white_noise(r, o.add_noise_deg, seed++);
+        }
+    }
     gaze::DetectorParams params;
     params.lookahead_s = o.lookahead_ms * 1e-3;
     for (const std::string& a : o.detector) {
@@ -416,6 +423,10 @@ void setup(CLI::App& app) {
                    "Keep every N-th sample (and label) of each recording: the same eye movements "
                    "as a tracker at 1/N of the rate would see them")
         ->check(CLI::PositiveNumber);
+    app.add_option("--add-noise-deg", o->add_noise_deg,
+                   "Add Gaussian white noise of this SD (deg, per axis) to every sample: the same "
+                   "eye movements through a noisier tracker")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--threads", o->threads, "Worker threads (default: one per core)");
     app.callback([o] {
         const int rc = run(*o);

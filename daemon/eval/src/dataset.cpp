@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <random>
 
 #include "loaders.hpp"
 
@@ -180,6 +181,21 @@ void decimate(Recording& r, size_t factor) {
     keep_every(r.samples);
     for (auto& [coder, labels] : r.coders) keep_every(labels);
     r.rate_hz /= static_cast<double>(factor);
+}
+
+void add_white_noise(Recording& r, double sd_deg, uint64_t seed) {
+    if (!(sd_deg > 0.0)) return;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0.0, sd_deg);
+    for (auto& s : r.samples) {
+        const double nx = normal(rng), ny = normal(rng);
+        for (gaze::EyeSample* e : {&s.left, &s.right}) {
+            if (!e->valid) continue;
+            double x_deg, y_deg;
+            r.display.to_degrees(e->x, e->y, x_deg, y_deg);
+            r.display.to_normalized(x_deg + nx, y_deg + ny, e->x, e->y);
+        }
+    }
 }
 
 }  // namespace fovea::eval

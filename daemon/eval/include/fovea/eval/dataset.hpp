@@ -7,6 +7,7 @@
 // be shared between threads.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -85,6 +86,10 @@ Result<DatasetSet> load_datasets(const std::string& root);
 // tracker running at rate_hz / factor would have delivered of the same eye movements (no
 // anti-alias filter: a camera samples, it does not average). The rate becomes rate_hz / factor.
 void decimate(Recording& r, size_t factor);
+// Gaussian white noise of `sd_deg` per axis added to every valid sample, the same offset to
+// both eyes (the combined gaze gets all of it): the same eye movements through a noisier
+// tracker. Deterministic for a seed; sd_deg <= 0 leaves the recording as it is.
+void add_white_noise(Recording& r, double sd_deg, uint64_t seed);
 
 // Gaze of a sample in degrees from the display centre: the mean of the valid eyes, the same
 // combination the gaze chain's detector sees (gaze/pipeline.hpp). NaN when no eye is valid.
