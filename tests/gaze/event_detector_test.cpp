@@ -54,7 +54,10 @@ TEST_P(EventDetectorRates, FindsSaccadePursuitFixationAndBlink) {
         // Overlap (intersection over union) per event with the truth.
         EXPECT_GT(agreement(ev, s.truth, Event::kSaccade), 0.6) << "rate " << rate;
         EXPECT_GT(agreement(ev, s.truth, Event::kPursuit), 0.65) << "rate " << rate;
-        EXPECT_GT(agreement(ev, s.truth, Event::kFixation), 0.8) << "rate " << rate;
+        // 0.79 since stop 41 (above 0.80 before): the synthetic's noise is white, so the pursuit
+        // floor no longer rises above the 1-deg bound, and the pursuit's abrupt start and stop
+        // smear ~150 ms into the fixations around them (daemon/gaze/README.md).
+        EXPECT_GT(agreement(ev, s.truth, Event::kFixation), 0.75) << "rate " << rate;
         EXPECT_GT(agreement(ev, s.truth, Event::kBlink), 0.5) << "rate " << rate;
     }
 }
@@ -718,6 +721,58 @@ TEST(EventDetector, PositionNoiseIsTheSameAtEveryRate) {
         std::printf("%5.1f Hz: noise %.4f deg (per sample %.4f)\n", 2000.0 / every, noise,
                     old[every]);
     EXPECT_GT(old[32] / old[4], 1.5) << "the drift no longer separates the two designs";
+}
+
+// 1 s still, 2 s of pursuit at 4 deg/s to the right, 1 s still, 500 Hz, under white noise of
+// `sd` deg per axis (Gaussian: 3 uniforms): the events as the detector labels them offline.
+std::vector<Event> slow_pursuit_under_noise(double sd, std::vector<Event>& truth) {
+    constexpr double kRate = 500.0;
+    uint64_t seed = 23;
+    std::vector<DetectorInput> in;
+    truth.clear();
+    for (int i = 0; i < static_cast<int>(4.0 * kRate); ++i) {
+        const double t = i / kRate;
+        const double x = 4.0 * std::clamp(t - 1.0, 0.0, 2.0);
+        DetectorInput d;
+        d.t_s = t;
+        d.valid = true;
+        d.x_deg = x + sd * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+        d.y_deg = sd * (test::noise(seed) + test::noise(seed) + test::noise(seed));
+        in.push_back(d);
+        truth.push_back(t > 1.0 && t < 3.0 ? Event::kPursuit : Event::kFixation);
+    }
+    std::vector<Event> events;
+    for (const auto& o : EventDetector::detect_offline(in, {}, kRate)) events.push_back(o.event);
+    return events;
+}
+
+// Pursuit at 4 deg/s is pursuit, and a still eye is not, whatever the tracker's white noise up
+// to 0.1 deg: white noise hardly moves a 0.4 s window's slope (sd sqrt(12 / (n T^2)), ~0.06 deg/s
+// at 0.1 deg), so the pursuit floor (a 3-SD bound on noise and drift) stays under the 1-deg
+// bound. The floor used to be 85 x the noise, 2.5 deg/s at 0.4 s on Lund's SMI: with 0.05 deg of
+// white noise it passed 10 deg/s and this pursuit was fixation (Lund dots fixation kappa .707 ->
+// .054 with 0.05 deg added: daemon/eval/README.md).
+TEST(EventDetector, SlowPursuitStaysPursuitUnderWhiteNoise) {
+    for (const double sd : {0.01, 0.05, 0.1}) {
+        std::vector<Event> truth;
+        const auto got = slow_pursuit_under_noise(sd, truth);
+        ASSERT_EQ(got.size(), truth.size());
+        size_t pursuit = 0, found = 0, still = 0, false_pursuit = 0;
+        // Transitions smear by up to the window's reach; score 0.4 s away from them.
+        for (size_t i = 0; i < got.size(); ++i) {
+            const double t = static_cast<double>(i) / 500.0;
+            if (std::fabs(t - 1.0) < 0.4 || std::fabs(t - 3.0) < 0.4) continue;
+            if (truth[i] == Event::kPursuit) {
+                ++pursuit;
+                found += got[i] == Event::kPursuit;
+            } else {
+                ++still;
+                false_pursuit += got[i] == Event::kPursuit;
+            }
+        }
+        EXPECT_GT(static_cast<double>(found) / pursuit, 0.9) << "noise " << sd;
+        EXPECT_LT(static_cast<double>(false_pursuit) / still, 0.1) << "noise " << sd;
+    }
 }
 
 }  // namespace

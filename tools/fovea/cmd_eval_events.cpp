@@ -379,8 +379,12 @@ int run(const Options& o) {
         print_table(set->datasets[d], in_sample[d], folds[d] ? &folds[d]->held_out : nullptr);
     }
     if (!o.cv.empty()) {
-        std::printf("\nleave-one-dataset-out over %zu candidates; fitted constants:\n",
-                    cv.candidates);
+        std::printf("\nleave-one-dataset-out over %zu candidates; fitted constants:%s\n",
+                    cv.candidates,
+                    cv.tunables.empty() && cv.pinned.empty()
+                        ? " none (held out = in sample: every threshold is physiological, "
+                          "statistical or measured on the recording)"
+                        : "");
         for (size_t t = 0; t < cv.tunables.size(); ++t) {
             std::printf("  %-22s shipped %g, fit on all %g;", cv.tunables[t].name.c_str(),
                         cv.shipped[t], cv.fit_all[t]);

@@ -8,18 +8,12 @@
 namespace fovea::eval {
 
 std::vector<Tunable> detector_tunables() {
-    const gaze::DetectorParams d;
-    auto with = [](double shipped, std::vector<double> grid) {
-        if (std::find(grid.begin(), grid.end(), shipped) == grid.end()) grid.push_back(shipped);
-        std::sort(grid.begin(), grid.end());
-        return grid;
-    };
-    return {
-        // pursuit_dps is not fitted: with pursuit_span_exponent 1 it is the 1-deg displacement
-        // bound of the literature (gaze::DetectorParams), the same in sample and held out.
-        {"pursuit_noise_gain", &gaze::DetectorParams::pursuit_noise_gain,
-         with(d.pursuit_noise_gain, {55, 85, 130})},
-    };
+    // Nothing is fitted today. pursuit_dps is the 1-deg displacement bound of the literature
+    // (gaze::DetectorParams); the pursuit floor, once 85 x noise fitted as pursuit_noise_gain
+    // {55, 85, 130}, is a significance level on the recording's own noise and drift
+    // (pursuit_floor_sd = 3, 2026-12-06 stop 41: daemon/eval/README.md). A constant fitted on
+    // data goes here with its grid, and every fold refits it without the dataset it scores.
+    return {};
 }
 
 double objective(const DatasetScore& s) {

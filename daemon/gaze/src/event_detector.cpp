@@ -46,16 +46,20 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     noise_lag_[0] = std::max(1, static_cast<int>(std::floor(noise_ref_lag_ + 1e-9)));
     noise_lag_[1] = noise_lag_[0] + 1;
     if (mode_ == DetectorMode::kOnline) {
-        noise_ = p_.noise_prior_deg;
-        noise_lag_mean_ = {noise_, noise_};
+        noise_lag_mean_ = {p_.noise_prior_deg, p_.noise_prior_deg};
         noise_weight_ = std::max(0.0, p_.noise_prior_samples);
     }
+    // Offline until set_thresholds, online until the first measurement: the prior.
+    set_noise(p_.noise_prior_deg, p_.noise_prior_deg * p_.noise_prior_ratio);
     peak_ = p_.initial_peak_dps;
     onset_ = std::max(p_.min_onset_dps(), stat_mean_ + p_.onset_sd * std::sqrt(stat_var_));
 }
 
 void EventDetector::set_thresholds(const VelocityThresholds& t) {
-    if (std::isfinite(t.noise_deg) && t.noise_deg > 0) noise_ = t.noise_deg;
+    if (std::isfinite(t.noise_deg) && t.noise_deg > 0) {
+        const bool known2 = std::isfinite(t.noise2_deg) && t.noise2_deg > 0;
+        set_noise(t.noise_deg, known2 ? t.noise2_deg : t.noise_deg * p_.noise_prior_ratio);
+    }
     const bool sigmas = std::isfinite(t.microsaccade_sigma_x_dps) &&
                         std::isfinite(t.microsaccade_sigma_y_dps) &&
                         t.microsaccade_sigma_x_dps > 0 && t.microsaccade_sigma_y_dps > 0;
@@ -441,17 +445,37 @@ void EventDetector::update_noise(int64_t c) {
         noise_weight_ += 1.0;
         const double gain = 1.0 / std::min(noise_weight_, 4096.0);
         for (int l = 0; l < 2; ++l) noise_lag_mean_[l] += (d2[l] - noise_lag_mean_[l]) * gain;
-        noise_ = noise_at_reference(noise_lag_mean_[0], noise_lag_mean_[1]);
+        set_noise(noise_at_reference(noise_lag_mean_[0], noise_lag_mean_[1]),
+                  noise_at_reference(noise_lag_mean_[0], noise_lag_mean_[1], 2.0));
     }
 }
 
-double EventDetector::noise_at_reference(double m1, double m2) const {
+double EventDetector::noise_at_reference(double m1, double m2, double steps) const {
     if (!(m1 > 0.0) || !(m2 > 0.0)) return m1;
     const double k1 = noise_lag_[0], k2 = noise_lag_[1];
-    if (noise_ref_lag_ == k1) return m1;
+    const double ref = steps * noise_ref_lag_;
+    if (ref == k1) return m1;
+    if (ref == k2) return m2;
     // |d2| ~ lag^(alpha / 2), alpha from the two lags (0: white noise, 2: smooth motion).
     const double alpha = std::clamp(2.0 * std::log(m2 / m1) / std::log(k2 / k1), 0.0, 2.0);
-    return m1 * std::pow(noise_ref_lag_ / k1, 0.5 * alpha);
+    return m1 * std::pow(ref / k1, 0.5 * alpha);
+}
+
+void EventDetector::set_noise(double at_step, double at_two_steps) {
+    noise_ = at_step;
+    noise2_ = at_two_steps;
+    // Per axis the second difference of Gaussian noise is Gaussian, so its 2-D length is
+    // Rayleigh: variance = mean^2 x 2 / pi. White noise of SD s gives 6 s^2 at every lag; a
+    // random walk of q deg^2/s gives 2 q h at lag h.
+    constexpr double kRayleigh = 2.0 / 3.14159265358979323846;
+    const double v1 = noise_ * noise_ * kRayleigh, v2 = noise2_ * noise2_ * kRayleigh;
+    const double step_s = noise_ref_lag_ / rate_;
+    const double q = std::isfinite(v2 - v1) ? std::max(0.0, v2 - v1) / (2.0 * step_s) : 0.0;
+    const double white = std::isfinite(v1) ? std::max(0.0, 2.0 * v1 - v2) / 6.0 : 0.0;
+    // Variance of a window's least-squares slope: 12 s^2 / (n span^2) with n = rate x span, and
+    // 6 q / (5 span) for Brownian motion.
+    white_slope_var_ = 12.0 * white / rate_;
+    drift_slope_var_ = 6.0 * q / 5.0;
 }
 
 void EventDetector::stage_saccades(int64_t c) {
@@ -619,11 +643,12 @@ double EventDetector::pursuit_threshold(double span, bool was_pursuit) const {
     // A fixation stays within a bounded area (anti-persistent drift), so its apparent speed
     // falls as the window grows while pursuit keeps its speed: the threshold scales as
     // 1/window (pursuit_span_exponent 1), i.e. pursuit_dps x ref (1 deg by default) bounds the
-    // fixation's displacement over the window. Noisier recordings drift more in appearance
-    // too: the floor rises with position noise, always as 1/sqrt(window).
+    // fixation's displacement over the window. The floor is what noise and drift alone make a
+    // still eye's window move (pursuit_floor_sd).
     const double ref = p_.pursuit_ref_window_s / span;
-    double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent),
-                                p_.pursuit_noise_gain * noise_ * std::sqrt(ref));
+    const double floor = p_.pursuit_floor_sd * std::sqrt(white_slope_var_ / (span * span * span) +
+                                                         drift_slope_var_ / span);
+    double threshold = std::max(p_.pursuit_dps * std::pow(ref, p_.pursuit_span_exponent), floor);
     if (was_pursuit) threshold *= p_.pursuit_hysteresis;
     return threshold;
 }
@@ -1028,6 +1053,8 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         }
         const double count = static_cast<double>(m);
         next.noise_deg = m ? d.noise_at_reference(sum[0] / count, sum[1] / count) : t.noise_deg;
+        next.noise2_deg =
+            m ? d.noise_at_reference(sum[0] / count, sum[1] / count, 2.0) : t.noise2_deg;
         const bool done = std::fabs(next.peak_dps - t.peak_dps) < 0.5;
         t = next;
         if (done) break;

@@ -107,8 +107,16 @@ struct DetectorParams {
     // speed that falls as 1/sqrt(span) instead.
     double pursuit_dps = 2.5;
     double pursuit_ref_window_s = 0.4;
-    double pursuit_noise_gain = 85.0;  // threshold floor per degree of position noise
-    // The noise floor keeps 1/sqrt(span) whatever this is.
+    // The threshold's floor is the speed a still eye's window reaches by noise and drift alone
+    // with probability exp(-z^2 / 2) (z = pursuit_floor_sd; 3: ~1 %): its fitted slope has, per
+    // axis, the variance 12 s^2 / (rate span^3) from white noise of SD s and 6 q / (5 span)
+    // from a random walk of q deg^2/s (the least-squares slope of Brownian motion). s and q come
+    // from the recording's position noise at the reference step and twice it (below): white
+    // noise adds 6 s^2 to the second difference's variance at every lag, a random walk 2 q h at
+    // lag h. On lund2013 z = 3 gives the floor the fitted 85 x noise x sqrt(0.4 s / span) gave
+    // (2.5 deg/s at 0.4 s), but added white noise no longer raises it (daemon/eval/README.md,
+    // 2026-12-06, stop 41). A significance level, not a fitted gain.
+    double pursuit_floor_sd = 3.0;
     double pursuit_span_exponent = 1.0;
     // Pursuit split by catch-up saccades (daemon/eval/README.md, 2026-12-06, later). A window
     // that fails the bound above because a saccade cuts it short is pooled with the
@@ -139,6 +147,9 @@ struct DetectorParams {
     // worth this many samples, so the first samples cannot set it alone.
     double noise_prior_deg = 0.03;
     double noise_prior_samples = 200.0;
+    // ... and at twice the step this many times that (lund2013's median, 1.62: mostly drift; 1
+    // would be white noise, which sets no floor).
+    double noise_prior_ratio = 1.6;
     // The position noise behind the pursuit floor is the mean |second difference| over this time
     // step, whatever the sampling rate: the eye drifts, and a tracker's samples are correlated,
     // so the per-sample second difference grows as the interval does (lund2013 x1.6 at half its
@@ -146,8 +157,8 @@ struct DetectorParams {
     // it would call slow pursuit fixation at low rates. Measured at the two lags around the step
     // (below one sample, the first two), it is interpolated, or extrapolated, as the power law
     // |d2| ~ lag^(alpha / 2) that the labelled recordings follow (alpha 0-2: white noise to
-    // smooth motion). 2 ms: one sample at 500 Hz, where the floor's gain was chosen. 0: one
-    // sample at any rate (before 2026-12-06, stop 41).
+    // smooth motion). 2 ms: one sample at 500 Hz, lund2013's rate. 0: one sample at any rate
+    // (before 2026-12-06, stop 41).
     double noise_reference_s = 0.002;
     double min_pursuit_window_s = 0.03;  // shorter windows keep the previous decision
     double pursuit_hysteresis = 0.5;     // leave pursuit below this x threshold
@@ -217,6 +228,7 @@ struct VelocityThresholds {
     double peak_dps = 100.0;
     double onset_dps = 50.0;
     double noise_deg = 0.05;  // mean |second difference| of position in fixation/pursuit
+    double noise2_deg = 0.0;  // the same over twice the step (0: unknown)
     // Engbert & Kliegl's median-based velocity SD per axis over the recording (deg/s); 0:
     // unknown, the offline microsaccade stage is off (online mode estimates its own).
     double microsaccade_sigma_x_dps = 0.0;
@@ -345,7 +357,9 @@ private:
     double pursuit_threshold(double span, bool was_pursuit) const;
     void update_noise(int64_t c);
     // Mean |second difference| at the reference step from the means at the two lags.
-    double noise_at_reference(double at_lag1, double at_lag2) const;
+    double noise_at_reference(double at_lag1, double at_lag2, double steps = 1.0) const;
+    // noise_ and noise2_, and the pursuit floor's slope variances from them.
+    void set_noise(double at_step, double at_two_steps);
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
     void advance(bool flushing);
@@ -428,9 +442,12 @@ private:
     std::vector<double>* velocity_sink_ = nullptr;
     std::vector<std::array<double, 2>>* noise_sink_ = nullptr;  // |d2| at both noise lags
     std::vector<std::array<double, 2>>* ms_sink_ = nullptr;     // every sample's (mvx, mvy)
-    // Online: running mean |second difference| at the two noise lags; noise_ is their value
-    // at the reference step (noise_reference_s), which the pursuit floor uses.
-    double noise_ = 0.05, noise_weight_ = 0.0;
+    // Online: running mean |second difference| at the two noise lags; noise_ and noise2_ are
+    // their values at the reference step (noise_reference_s) and twice it, and the pursuit
+    // floor's slope variances (white_slope_var_ x 1 / span^3, drift_slope_var_ x 1 / span)
+    // follow from them (set_noise).
+    double noise_ = 0.05, noise_weight_ = 0.0, noise2_ = 0.0;
+    double white_slope_var_ = 0.0, drift_slope_var_ = 0.0;
     std::array<double, 2> noise_lag_mean_{0.05, 0.05};
     int noise_lag_[2] = {1, 2};
     double noise_ref_lag_ = 1.0;  // the reference step in samples
