@@ -227,8 +227,10 @@ struct DetectorOutput {
 struct VelocityThresholds {
     double peak_dps = 100.0;
     double onset_dps = 50.0;
-    double noise_deg = 0.05;  // mean |second difference| of position in fixation/pursuit
-    double noise2_deg = 0.0;  // the same over twice the step (0: unknown)
+    // Mean |second difference| of position in fixation/pursuit over the reference step
+    // (DetectorParams::noise_reference_s), and over twice it (0: unknown).
+    double noise_deg = 0.05;
+    double noise2_deg = 0.0;
     // Engbert & Kliegl's median-based velocity SD per axis over the recording (deg/s); 0:
     // unknown, the offline microsaccade stage is off (online mode estimates its own).
     double microsaccade_sigma_x_dps = 0.0;
