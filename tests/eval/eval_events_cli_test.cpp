@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "../support/child_process.hpp"
 
@@ -32,6 +33,14 @@ nlohmann::json run_json(const std::vector<std::string>& args, const char* tag,
 bool have_data() {
     return std::filesystem::is_directory(kData + "/lund2013") &&
            std::filesystem::exists(fovea::testing::kFoveaBinary);
+}
+
+// `fovea eval-events ../shared/data --cv dataset --json` with `extra` arguments (a probe such as
+// --decimate, or --mode online).
+nlohmann::json run_cv_json(std::vector<std::string> extra, const char* tag) {
+    std::vector<std::string> args{"eval-events", kData, "--cv", "dataset", "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_json(args, tag, std::chrono::seconds(240));
 }
 
 // A held-out kappa (all coders) as measured; checked with a margin of 0.03 for run-to-run and
@@ -124,8 +133,7 @@ TEST(EvalEventsCli, AgainstEyelinkScoresEveryAscSourceAgainstTheTrackersParser) 
 // .533 -> .538 and Hooge adult .635 -> .630, and nothing is fitted any more.
 TEST(EvalEventsCli, HeldOutKappaPerDatasetStaysAboveItsFloor) {
     if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
-    const auto j = run_json({"eval-events", kData, "--cv", "dataset", "--json"}, "cv",
-                            std::chrono::seconds(240));
+    const auto j = run_cv_json({}, "cv");
     ASSERT_FALSE(j.is_discarded());
     const Floor floors[] = {
         {"lund2013", "img", "fixation", 0.803},    {"lund2013", "dots", "fixation", 0.707},
@@ -169,8 +177,7 @@ TEST(EvalEventsCli, HeldOutKappaPerDatasetStaysAboveItsFloor) {
 // 0.03.
 TEST(EvalEventsCli, HeldOutKappaAtHalfTheRateStaysAboveItsFloor) {
     if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
-    const auto j = run_json({"eval-events", kData, "--cv", "dataset", "--decimate", "2", "--json"},
-                            "cv_half_rate", std::chrono::seconds(240));
+    const auto j = run_cv_json({"--decimate", "2"}, "cv_half_rate");
     ASSERT_FALSE(j.is_discarded());
     const Floor floors[] = {
         {"lund2013", "dots", "fixation", 0.654},   {"lund2013", "dots", "pursuit", 0.684},
@@ -189,9 +196,7 @@ TEST(EvalEventsCli, HeldOutKappaAtHalfTheRateStaysAboveItsFloor) {
 // noise barely moves a window's slope: .636 / .677 and .523 / .531. Floors: measured minus 0.03.
 TEST(EvalEventsCli, HeldOutKappaThroughANoisierTrackerStaysAboveItsFloor) {
     if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
-    const auto j =
-        run_json({"eval-events", kData, "--cv", "dataset", "--add-noise-deg", "0.02", "--json"},
-                 "cv_noisier", std::chrono::seconds(240));
+    const auto j = run_cv_json({"--add-noise-deg", "0.02"}, "cv_noisier");
     ASSERT_FALSE(j.is_discarded());
     const Floor floors[] = {
         {"lund2013", "dots", "fixation", 0.636},   {"lund2013", "dots", "pursuit", 0.677},
@@ -209,8 +214,7 @@ TEST(EvalEventsCli, HeldOutKappaThroughANoisierTrackerStaysAboveItsFloor) {
 // .814; those cells are floored offline only.
 TEST(EvalEventsCli, OnlineHeldOutUneyeSaccadeStaysAboveItsFloor) {
     if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
-    const auto j = run_json({"eval-events", kData, "--cv", "dataset", "--mode", "online", "--json"},
-                            "cv_online", std::chrono::seconds(240));
+    const auto j = run_cv_json({"--mode", "online"}, "cv_online");
     ASSERT_FALSE(j.is_discarded());
     const auto& k = j["datasets"]["uneye"]["held_out"]["kappa"]["all"]["saccade"]["all"];
     ASSERT_TRUE(k.is_number());

@@ -462,13 +462,11 @@ double EventDetector::noise_at_reference(double m1, double m2, double steps) con
 }
 
 void EventDetector::set_noise(double at_step, double at_two_steps) {
-    noise_ = at_step;
-    noise2_ = at_two_steps;
     // Per axis the second difference of Gaussian noise is Gaussian, so its 2-D length is
     // Rayleigh: variance = mean^2 x 2 / pi. White noise of SD s gives 6 s^2 at every lag; a
     // random walk of q deg^2/s gives 2 q h at lag h.
     constexpr double kRayleigh = 2.0 / 3.14159265358979323846;
-    const double v1 = noise_ * noise_ * kRayleigh, v2 = noise2_ * noise2_ * kRayleigh;
+    const double v1 = at_step * at_step * kRayleigh, v2 = at_two_steps * at_two_steps * kRayleigh;
     const double step_s = noise_ref_lag_ / rate_;
     const double q = std::isfinite(v2 - v1) ? std::max(0.0, v2 - v1) / (2.0 * step_s) : 0.0;
     const double white = std::isfinite(v1) ? std::max(0.0, 2.0 * v1 - v2) / 6.0 : 0.0;

@@ -360,7 +360,7 @@ private:
     void update_noise(int64_t c);
     // Mean |second difference| at the reference step from the means at the two lags.
     double noise_at_reference(double at_lag1, double at_lag2, double steps = 1.0) const;
-    // noise_ and noise2_, and the pursuit floor's slope variances from them.
+    // The pursuit floor's slope variances from the noise at the reference step and twice it.
     void set_noise(double at_step, double at_two_steps);
     void invalidate(int64_t i) { verified_to_ = std::min(verified_to_, i - 1); }
     Record* record(int64_t id);
@@ -444,11 +444,10 @@ private:
     std::vector<double>* velocity_sink_ = nullptr;
     std::vector<std::array<double, 2>>* noise_sink_ = nullptr;  // |d2| at both noise lags
     std::vector<std::array<double, 2>>* ms_sink_ = nullptr;     // every sample's (mvx, mvy)
-    // Online: running mean |second difference| at the two noise lags; noise_ and noise2_ are
-    // their values at the reference step (noise_reference_s) and twice it, and the pursuit
-    // floor's slope variances (white_slope_var_ x 1 / span^3, drift_slope_var_ x 1 / span)
-    // follow from them (set_noise).
-    double noise_ = 0.05, noise_weight_ = 0.0, noise2_ = 0.0;
+    // Online: running mean |second difference| at the two noise lags. The pursuit floor keeps
+    // only the slope variances they imply (set_noise): white_slope_var_ / span^3 +
+    // drift_slope_var_ / span.
+    double noise_weight_ = 0.0;
     double white_slope_var_ = 0.0, drift_slope_var_ = 0.0;
     std::array<double, 2> noise_lag_mean_{0.05, 0.05};
     int noise_lag_[2] = {1, 2};
