@@ -295,6 +295,43 @@ TEST(Decimate, KeepsEveryNthSampleWithItsLabelsAndDividesTheRate) {
     EXPECT_EQ(r.coders["b"].size(), 4u);
 }
 
+// --upsample: factor - 1 samples between each pair, time and position interpolated, labels and
+// an invalid eye from the nearer original sample; originals kept; the rate multiplies.
+TEST(Upsample, InterpolatesBetweenSamplesAndTakesTheNearerLabels) {
+    Recording r;
+    r.rate_hz = 250.0;
+    for (int i = 0; i < 3; ++i) {
+        gaze::RawSample s;
+        s.device_ticks = static_cast<uint64_t>(i) * 4000;
+        s.left = {0.1 * i, 0.5, 3.0, true};
+        s.right = {0.2 * i, 0.5, 3.0, i != 2};  // the right eye lost at the last sample
+        r.samples.push_back(s);
+    }
+    r.coders["a"] = {gaze::Event::kFixation, gaze::Event::kSaccade, gaze::Event::kPso};
+    Recording same = r;
+    upsample(same, 1);
+    upsample(same, 0);
+    EXPECT_EQ(same.samples.size(), 3u);
+    EXPECT_EQ(same.rate_hz, 250.0);
+    upsample(r, 4);
+    ASSERT_EQ(r.samples.size(), 9u);
+    ASSERT_EQ(r.coders["a"].size(), 9u);
+    EXPECT_EQ(r.rate_hz, 1000.0);
+    for (size_t i = 0; i < 9; ++i) {
+        EXPECT_EQ(r.samples[i].device_ticks, i * 1000) << i;
+        EXPECT_NEAR(r.samples[i].left.x, 0.025 * static_cast<double>(i), 1e-12) << i;
+        EXPECT_TRUE(r.samples[i].left.valid) << i;
+    }
+    // Labels: 0-1 from sample 0, 2-5 from sample 1 (2 and 6 are halfway: the later one), ...
+    const gaze::Event F = gaze::Event::kFixation, S = gaze::Event::kSaccade, P = gaze::Event::kPso;
+    EXPECT_EQ(r.coders["a"], (std::vector<gaze::Event>{F, F, S, S, S, S, P, P, P}));
+    // Between a valid and an invalid right eye: the nearer sample's eye, not interpolated.
+    EXPECT_TRUE(r.samples[5].right.valid);
+    EXPECT_DOUBLE_EQ(r.samples[5].right.x, 0.2);
+    EXPECT_FALSE(r.samples[6].right.valid);
+    EXPECT_FALSE(r.samples[8].right.valid);
+}
+
 // --add-noise-deg: Gaussian offsets of the given SD per axis in degrees, the same to both
 // eyes, none to invalid samples; the same seed gives the same noise; SD 0 changes nothing.
 TEST(AddWhiteNoise, OffsetsInDegreesHaveTheSdAndBothEyesShareThem) {

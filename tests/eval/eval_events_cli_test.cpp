@@ -208,6 +208,28 @@ TEST(EvalEventsCli, HeldOutKappaThroughANoisierTrackerStaysAboveItsFloor) {
     expect_held_out_above(j, floors, "with 0.02 deg more noise");
 }
 
+// The same recordings at four times their rate (--upsample 4: Lund and EyeLink at 2000-4000 Hz,
+// GazeCom at 1000, Hooge at 1200), with 0.02 deg of white noise on every sample as such a
+// tracker would add between the original ones, held out. No labelled recording above 1000 Hz
+// exists here: this pins the rate handling (windows in ms, the 2 ms noise reference, buffers)
+// at the top of the 60-2000 Hz range. Measured (2026-12-06, stop 42) against native with the
+// same noise: Lund dots fixation .646 (.636), video .538 (.523), img saccade .855 (.873); GazeCom
+// fixation .634 (.706) and pursuit .494 (.575) lose most: its 250 Hz labels are 4 ms steps that
+// the detector now resolves at 1 ms. Floors: measured minus 0.03.
+TEST(EvalEventsCli, HeldOutKappaAtFourTimesTheRateStaysAboveItsFloor) {
+    if (!have_data()) GTEST_SKIP() << "no shared data at " << kData << " or no fovea binary";
+    const auto j = run_cv_json({"--upsample", "4", "--add-noise-deg", "0.02"}, "cv_four_rate");
+    ASSERT_FALSE(j.is_discarded());
+    const Floor floors[] = {
+        {"lund2013", "dots", "fixation", 0.646},   {"lund2013", "dots", "pursuit", 0.686},
+        {"lund2013", "video", "fixation", 0.538},  {"lund2013", "video", "pursuit", 0.541},
+        {"lund2013", "img", "fixation", 0.779},    {"lund2013", "img", "saccade", 0.855},
+        {"gazecom", "all", "fixation", 0.634},     {"gazecom", "all", "pursuit", 0.494},
+        {"hooge2018", "adult", "fixation", 0.662}, {"hooge2018", "infant", "fixation", 0.855},
+    };
+    expect_held_out_above(j, floors, "at four times the rate");
+}
+
 // Online mode (what fovead runs), held out: the causal microsaccade stage (SDs from the past,
 // 2026-12-06) raised U'n'Eye saccade .128 -> .517 (offline .600); floor minus 0.03 as above.
 // Its largest falls elsewhere were Lund video saccade .881 -> .872 and GazeCom saccade .821 ->

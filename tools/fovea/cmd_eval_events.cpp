@@ -1,5 +1,5 @@
 // `fovea eval-events DIR [--mode online|offline] [--json] [--cv dataset] [--detector K=V]...
-// [--decimate N] [--add-noise-deg SD]`:
+// [--decimate N] [--upsample N] [--add-noise-deg SD]`:
 // agreement of the gaze chain's events with hand-labelled recordings, every dataset found under DIR
 // (one dataset's folder or ../shared/data) scored on its own: Cohen's kappa per sample and event
 // (Andersson et al. 2017), sample F1 and event F1 (IoU >= 0.5; Hooge et al. 2018, Startsev et al.
@@ -7,6 +7,7 @@
 // refits the detector's fitted constants without each dataset and scores it with them (held out)
 // beside the shipped constants (in sample). `--decimate N` scores every recording at 1/N of its
 // rate (every N-th sample and label), as a slower tracker would have seen the same eye movements;
+// `--upsample N` at N x its rate (linear interpolation: the rate handling up to 2000 Hz);
 // `--add-noise-deg SD` through a noisier one.
 #include <algorithm>
 #include <cmath>
@@ -40,6 +41,7 @@ struct Options {
     std::vector<std::string> cv_pin;    // fitted constants the folds keep at the shipped value
     int threads = 0;
     size_t decimate = 1;         // keep every N-th sample: the same eye movements at rate / N
+    size_t upsample = 1;         // interpolate N - 1 samples into every interval: at rate x N
     double add_noise_deg = 0.0;  // white noise per axis: the same eye movements, noisier tracker
 };
 
@@ -290,6 +292,7 @@ int run(const Options& o) {
         uint64_t seed = 1;  // one stream per recording, the same on every run
         for (auto& r : d.recordings) {
             eval::decimate(r, o.decimate);
+            eval::upsample(r, o.upsample);
             eval::add_white_noise(r, o.add_noise_deg, seed++);
         }
     }
@@ -426,6 +429,11 @@ void setup(CLI::App& app) {
     app.add_option("--decimate", o->decimate,
                    "Keep every N-th sample (and label) of each recording: the same eye movements "
                    "as a tracker at 1/N of the rate would see them")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--upsample", o->upsample,
+                   "Interpolate N - 1 samples (linearly) into every interval of each recording, "
+                   "labels from the nearer sample: the same eye movements at N x the rate (with "
+                   "--add-noise-deg, through a tracker that fast)")
         ->check(CLI::PositiveNumber);
     app.add_option("--add-noise-deg", o->add_noise_deg,
                    "Add Gaussian white noise of this SD (deg, per axis) to every sample: the same "

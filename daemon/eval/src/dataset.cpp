@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 #include "loaders.hpp"
 
@@ -181,6 +182,48 @@ void decimate(Recording& r, size_t factor) {
     keep_every(r.samples);
     for (auto& [coder, labels] : r.coders) keep_every(labels);
     r.rate_hz /= static_cast<double>(factor);
+}
+
+void upsample(Recording& r, size_t factor) {
+    if (factor <= 1 || r.samples.size() < 2) return;
+    const size_t n = r.samples.size();
+    const size_t m = (n - 1) * factor + 1;
+    std::vector<gaze::RawSample> samples;
+    samples.reserve(m);
+    std::map<std::string, std::vector<gaze::Event>> coders;
+    for (const auto& [coder, labels] : r.coders) coders[coder].reserve(m);
+    auto lerp = [](auto a, auto b, double f) { return a + (b - a) * f; };
+    for (size_t i = 0; i < n; ++i) {
+        const gaze::RawSample& a = r.samples[i];
+        samples.push_back(a);
+        for (auto& [coder, labels] : r.coders) coders[coder].push_back(labels[i]);
+        if (i + 1 == n) break;
+        const gaze::RawSample& b = r.samples[i + 1];
+        for (size_t k = 1; k < factor; ++k) {
+            const double f = static_cast<double>(k) / static_cast<double>(factor);
+            const bool nearer_a = 2 * k < factor;
+            gaze::RawSample s = nearer_a ? a : b;
+            s.device_ticks =
+                a.device_ticks + static_cast<uint64_t>(std::llround(
+                                     f * static_cast<double>(b.device_ticks - a.device_ticks)));
+            s.t_receive_ns = a.t_receive_ns +
+                             std::llround(f * static_cast<double>(b.t_receive_ns - a.t_receive_ns));
+            for (auto [e, ea, eb] : {std::tuple{&s.left, &a.left, &b.left},
+                                     std::tuple{&s.right, &a.right, &b.right}}) {
+                if (!ea->valid || !eb->valid) continue;  // the nearer sample's eye, as copied
+                e->x = lerp(ea->x, eb->x, f);
+                e->y = lerp(ea->y, eb->y, f);
+                e->pupil_mm = lerp(ea->pupil_mm, eb->pupil_mm, f);
+            }
+            samples.push_back(s);
+            for (auto& [coder, labels] : r.coders) {
+                coders[coder].push_back(labels[nearer_a ? i : i + 1]);
+            }
+        }
+    }
+    r.samples = std::move(samples);
+    r.coders = std::move(coders);
+    r.rate_hz *= static_cast<double>(factor);
 }
 
 void add_white_noise(Recording& r, double sd_deg, uint64_t seed) {

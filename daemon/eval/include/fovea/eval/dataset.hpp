@@ -86,6 +86,13 @@ Result<DatasetSet> load_datasets(const std::string& root);
 // tracker running at rate_hz / factor would have delivered of the same eye movements (no
 // anti-alias filter: a camera samples, it does not average). The rate becomes rate_hz / factor.
 void decimate(Recording& r, size_t factor);
+// `factor` - 1 samples linearly interpolated into every interval (time stamps, both eyes'
+// positions and pupils), each taking the nearer original sample's labels, and its eyes where
+// either end is invalid: the same eye movements as a tracker at factor x rate_hz, minus the
+// noise such a tracker would add between the samples (--add-noise-deg adds it back). Probes the
+// rate handling up to 2000 Hz, where no labelled recording exists. The rate becomes
+// rate_hz x factor; factor 0 or 1 leaves the recording as it is.
+void upsample(Recording& r, size_t factor);
 // Gaussian white noise of `sd_deg` per axis added to every valid sample, the same offset to
 // both eyes (the combined gaze gets all of it): the same eye movements through a noisier
 // tracker. Deterministic for a seed; sd_deg <= 0 leaves the recording as it is.
