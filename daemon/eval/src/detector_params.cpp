@@ -27,6 +27,7 @@ constexpr Field kFields[] = {
     {"onset_extra_samples", nullptr, &DetectorParams::onset_extra_samples},
     {"offset_peak_fraction", &DetectorParams::offset_peak_fraction},
     {"offset_half_window_s", &DetectorParams::offset_half_window_s},
+    {"trim_window_excess", nullptr, &DetectorParams::trim_window_excess},
     {"local_noise_window_s", &DetectorParams::local_noise_window_s},
     {"local_noise_sd", &DetectorParams::local_noise_sd},
     {"relative_window_s", &DetectorParams::relative_window_s},

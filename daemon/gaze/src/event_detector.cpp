@@ -22,6 +22,13 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     rate_ = std::isfinite(nominal_rate_hz) && nominal_rate_hz > 0 ? nominal_rate_hz : 1000.0;
     k_ = samples_for(p_.velocity_half_window_s, rate_, 1);
     kf_ = std::min(k_, samples_for(p_.offset_half_window_s, rate_, 1));
+    // The window's excess over its design, in samples, where it cannot shrink any more (one
+    // sample either side; above, rounding k leaves at most half a sample either way): whole
+    // samples from a third of one up, i.e. at 167 Hz and below.
+    if (p_.trim_window_excess != 0 && k_ == 1) {
+        const double excess = k_ - p_.velocity_half_window_s * rate_;
+        bound_trim_ = std::max(0, static_cast<int>(std::floor(excess + 2.0 / 3.0)));
+    }
     w_ = samples_for(p_.smooth_half_window_s, rate_, 2);
     // Online: at least the velocity window and one sample for the local-minimum test; the
     // pursuit window is then truncated at the newest sample (decided with what is known).
@@ -172,6 +179,22 @@ void EventDetector::advance(bool flushing) {
     ms_skip_ = ms_skip_ && !flushing;
 }
 
+Event EventDetector::flank_event() const {
+    // A sample trimmed off a saccade's bound is at rest: it belongs to the event on its other
+    // side, the one before the saccade (onset) or after it (offset, when already labelled).
+    const int64_t next = emit_next_ + 1;
+    const Label after = next < s4_next_ ? at(next).label : Label::kPending;
+    const bool onset_side = after == Label::kSaccade && at(next).sacc == at(emit_next_).sacc;
+    if (onset_side) {
+        return last_emitted_ == Event::kPursuit ? Event::kPursuit : Event::kFixation;
+    }
+    switch (after) {
+        case Label::kPursuit: return Event::kPursuit;
+        case Label::kPso: return Event::kPso;
+        default: return Event::kFixation;
+    }
+}
+
 bool EventDetector::pop(DetectorOutput& out) {
     if (emit_next_ >= s4_next_) return false;
     // Online, a sample this old leaves whatever the microsaccade stage still holds open: the
@@ -193,15 +216,16 @@ bool EventDetector::pop(DetectorOutput& out) {
         case Label::kInter:
         case Label::kFixation: out.event = Event::kFixation; break;
         case Label::kPursuit: out.event = Event::kPursuit; break;
-        case Label::kSaccade: out.event = Event::kSaccade; break;
+        case Label::kSaccade: out.event = e.flank ? flank_event() : Event::kSaccade; break;
         case Label::kPso: out.event = Event::kPso; break;
         case Label::kBlink: out.event = Event::kBlink; break;
         default:  // kUndefined (tracking lost on and off) and the rest: no event
             out.event = Event::kUnknown;
             break;
     }
-    // Offline threshold estimation sees final labels only, so blink edges never inflate it.
-    const bool inter = out.event == Event::kFixation || out.event == Event::kPursuit;
+    // Offline threshold estimation sees final labels only, so blink edges never inflate it (nor
+    // trimmed saccade samples: their speed is the saccade's).
+    const bool inter = is_inter(e.label);
     if (velocity_sink_) velocity_sink_->push_back(inter ? e.v : kNaN);
     if (ms_sink_ && std::isfinite(e.mvx) && std::isfinite(e.mvy)) {
         ms_sink_->push_back({e.mvx, e.mvy});
@@ -210,6 +234,7 @@ bool EventDetector::pop(DetectorOutput& out) {
         if (const Record* r = record(e.sacc)) out.saccade = r->info;
         out.saccade_id = e.sacc;
     }
+    last_emitted_ = out.event;
     ++emit_next_;
     while (base_ < emit_next_ - history_ && !buf_.empty()) {
         buf_.pop_front();
@@ -338,11 +363,16 @@ void EventDetector::start_saccade(int64_t c, bool after_pso) {
          ++extra) {
         --j;
     }
+    // A window wider than designed starts the rise early (trim_window_excess): the samples
+    // before `moving` are emitted as what came before, and the onset is reported at it.
+    const int64_t moving = std::min(c, j + bound_trim_);
+    for (int64_t i = j; i < moving; ++i) at(i).flank = true;
+    sacc_moving_ = moving;
     const int64_t id = next_id_++;
     records_.push_back({id, j, c, SaccadeInfo{}});
     while (records_.size() > 256) records_.pop_front();
     Record& r = records_.back();
-    r.info.onset_ns = std::llround(at(j).t * 1e9);
+    r.info.onset_ns = std::llround(at(moving).t * 1e9);
     r.info.peak_velocity_dps = at(c).v;
     const bool near_blink = at(j).t - last_lost_t_ < 2.0 * p_.blink_post_s;
     for (int64_t i = j; i <= c; ++i) {
@@ -421,6 +451,9 @@ void EventDetector::end_saccade(int64_t last) {
         state_ = State::kIdle;
         return;
     }
+    // ... and ends the fall late; the first sample after the onset's trim stays a saccade's.
+    for (int64_t i = last; i > std::max({sacc_moving_, base_, last - bound_trim_}); --i)
+        at(i).flank = true;
     finish_record(sacc_id_, last);
     state_ = State::kPostSaccade;
     post_start_ = last + 1;
