@@ -452,8 +452,9 @@ void EventDetector::end_saccade(int64_t last) {
         return;
     }
     // ... and ends the fall late; the first sample after the onset's trim stays a saccade's.
-    for (int64_t i = last; i > std::max({sacc_moving_, base_, last - bound_trim_}); --i)
+    for (int64_t i = last; i > std::max({sacc_moving_, base_, last - bound_trim_}); --i) {
         at(i).flank = true;
+    }
     finish_record(sacc_id_, last);
     state_ = State::kPostSaccade;
     post_start_ = last + 1;

@@ -391,10 +391,9 @@ private:
     int kf_;              // offset velocity half window, samples (<= k_)
     int w_;               // smoothing half window, samples
     int bound_trim_ = 0;  // samples each saccade bound moves in (trim_window_excess)
-    Event last_emitted_ = Event::kUnknown;
-    int lookahead_;    // samples
-    int history_;      // samples kept behind the emission point
-    int stats_delay_;  // online: samples between stage 2 and the threshold statistics
+    int lookahead_;       // samples
+    int history_;         // samples kept behind the emission point
+    int stats_delay_;     // online: samples between stage 2 and the threshold statistics
     double peak_, onset_;
     // Online threshold statistics (exponentially weighted, warm-started with a prior).
     double stat_mean_ = 15.0, stat_var_ = 14.0 * 14.0, stat_weight_ = 0.1;
@@ -452,6 +451,7 @@ private:
     State state_ = State::kIdle;
     int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
     int64_t sacc_moving_ = -1;  // the first sample not trimmed off the onset (trim_window_excess)
+    Event last_emitted_ = Event::kUnknown;  // by pop(): a trimmed onset sample continues it
     double sacc_peak_ = 0.0;
     double sacc_dir_x_ = 1.0, sacc_dir_y_ = 0.0;  // unit velocity direction at the peak
     double sacc_local_noise_ = 0.0;               // velocity mean + k SD before the onset
