@@ -197,19 +197,23 @@ double smooth_share(const std::vector<DetectorOutput>& out, size_t lo, size_t hi
     return n ? static_cast<double>(k) / n : 0.0;
 }
 
-std::vector<DetectorOutput> detect(const Script& s, const DetectorParams& p, DetectorMode mode) {
-    if (mode == DetectorMode::kOffline)
-        return EventDetector::detect_offline(s.in, p, Script::kRate);
-    EventDetector d(p, Script::kRate, mode);
+std::vector<DetectorOutput> detect(const std::vector<DetectorInput>& samples, double rate,
+                                   const DetectorParams& p, DetectorMode mode) {
+    if (mode == DetectorMode::kOffline) return EventDetector::detect_offline(samples, p, rate);
+    EventDetector d(p, rate, mode);
     std::vector<DetectorOutput> out;
     DetectorOutput o;
-    for (const auto& in : s.in) {
+    for (const auto& in : samples) {
         d.push(in);
         while (d.pop(o)) out.push_back(o);
     }
     d.flush();
     while (d.pop(o)) out.push_back(o);
     return out;
+}
+
+std::vector<DetectorOutput> detect(const Script& s, const DetectorParams& p, DetectorMode mode) {
+    return detect(s.in, Script::kRate, p, mode);
 }
 
 // Pursuit at 3.2 deg/s split by 1-deg catch-up saccades every 0.28 s (lund2013 dots,
@@ -813,18 +817,7 @@ BoundError saccade_bound_error(double rate, const DetectorParams& params, Detect
     const double end = t + 0.6;
     while (t < end) sample(x, false);
     std::vector<Event> ev;
-    if (mode == DetectorMode::kOffline) {
-        for (const auto& o : EventDetector::detect_offline(in, params, rate)) ev.push_back(o.event);
-    } else {
-        EventDetector d(params, rate, mode);
-        DetectorOutput o;
-        for (const auto& s : in) {
-            d.push(s);
-            while (d.pop(o)) ev.push_back(o.event);
-        }
-        d.flush();
-        while (d.pop(o)) ev.push_back(o.event);
-    }
+    for (const auto& o : detect(in, rate, params, mode)) ev.push_back(o.event);
     BoundError e;
     for (size_t i = 1; i < moving.size(); ++i) {
         if (!moving[i] || moving[i - 1]) continue;
