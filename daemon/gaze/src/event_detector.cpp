@@ -186,7 +186,8 @@ Event EventDetector::flank_event() const {
     const Label after = next < s4_next_ ? at(next).label : Label::kPending;
     const bool onset_side = after == Label::kSaccade && at(next).sacc == at(emit_next_).sacc;
     if (onset_side) {
-        return last_emitted_ == Event::kPursuit ? Event::kPursuit : Event::kFixation;
+        const bool continues = last_emitted_ == Event::kPursuit || last_emitted_ == Event::kPso;
+        return continues ? last_emitted_ : Event::kFixation;
     }
     switch (after) {
         case Label::kPursuit: return Event::kPursuit;
