@@ -88,8 +88,8 @@ struct DetectorParams {
     // samples from a third of one up: one sample from 167 Hz down, none above (where rounding k
     // leaves at most half a sample either way), so the rates the labelled data were recorded at
     // are untouched. Detection is unchanged; the trimmed samples (Entry::flank) are emitted as
-    // the event on their other side. Held out at 125 Hz: saccade kappa GazeCom .715 -> .765,
-    // Lund video .721 -> .808, img .741 -> .805; Hooge at 150 Hz fixation .683 -> .632, back to
+    // the event on their other side. Held out at 125 Hz: saccade kappa GazeCom .715 -> .763,
+    // Lund video .721 -> .808, img .741 -> .805; Hooge at 150 Hz fixation .683 -> .633, back to
     // its native .630 (daemon/eval/README.md, stop 42). 0: off.
     int trim_window_excess = 1;
 
