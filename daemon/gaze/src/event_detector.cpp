@@ -179,21 +179,20 @@ void EventDetector::advance(bool flushing) {
     ms_skip_ = ms_skip_ && !flushing;
 }
 
-Event EventDetector::flank_event() const {
+Event EventDetector::flank_event(int64_t& sacc) const {
     // A sample trimmed off a saccade's bound is at rest: it belongs to the event on its other
-    // side, the one before the saccade (onset) or after it (offset, when already labelled).
+    // side, the one before the saccade (onset) or after it (offset, when already labelled), and
+    // to that event's saccade if it is a PSO.
     const int64_t next = emit_next_ + 1;
     const Label after = next < s4_next_ ? at(next).label : Label::kPending;
-    const bool onset_side = after == Label::kSaccade && at(next).sacc == at(emit_next_).sacc;
-    if (onset_side) {
-        const bool continues = last_emitted_ == Event::kPursuit || last_emitted_ == Event::kPso;
-        return continues ? last_emitted_ : Event::kFixation;
+    if (after == Label::kSaccade && at(next).sacc == sacc) {  // the onset's side
+        const bool pso = last_emitted_ == Event::kPso;
+        sacc = pso ? last_emitted_sacc_ : -1;
+        return pso || last_emitted_ == Event::kPursuit ? last_emitted_ : Event::kFixation;
     }
-    switch (after) {
-        case Label::kPursuit: return Event::kPursuit;
-        case Label::kPso: return Event::kPso;
-        default: return Event::kFixation;
-    }
+    if (after == Label::kPso) return Event::kPso;  // this saccade's own PSO
+    sacc = -1;
+    return after == Label::kPursuit ? Event::kPursuit : Event::kFixation;
 }
 
 bool EventDetector::pop(DetectorOutput& out) {
@@ -213,11 +212,12 @@ bool EventDetector::pop(DetectorOutput& out) {
     out.index = emit_next_;
     out.saccade = SaccadeInfo{};
     out.saccade_id = -1;
+    int64_t sacc = e.sacc;
     switch (e.label) {
         case Label::kInter:
         case Label::kFixation: out.event = Event::kFixation; break;
         case Label::kPursuit: out.event = Event::kPursuit; break;
-        case Label::kSaccade: out.event = e.flank ? flank_event() : Event::kSaccade; break;
+        case Label::kSaccade: out.event = e.flank ? flank_event(sacc) : Event::kSaccade; break;
         case Label::kPso: out.event = Event::kPso; break;
         case Label::kBlink: out.event = Event::kBlink; break;
         default:  // kUndefined (tracking lost on and off) and the rest: no event
@@ -231,11 +231,12 @@ bool EventDetector::pop(DetectorOutput& out) {
     if (ms_sink_ && std::isfinite(e.mvx) && std::isfinite(e.mvy)) {
         ms_sink_->push_back({e.mvx, e.mvy});
     }
-    if ((out.event == Event::kSaccade || out.event == Event::kPso) && e.sacc >= 0) {
-        if (const Record* r = record(e.sacc)) out.saccade = r->info;
-        out.saccade_id = e.sacc;
+    if ((out.event == Event::kSaccade || out.event == Event::kPso) && sacc >= 0) {
+        if (const Record* r = record(sacc)) out.saccade = r->info;
+        out.saccade_id = sacc;
     }
     last_emitted_ = out.event;
+    last_emitted_sacc_ = out.saccade_id;
     ++emit_next_;
     while (base_ < emit_next_ - history_ && !buf_.empty()) {
         buf_.pop_front();

@@ -346,7 +346,8 @@ private:
     void feed_microsaccade_stats(int64_t i);
     void start_saccade(int64_t c, bool after_pso = false);
     void end_saccade(int64_t last);
-    Event flank_event() const;  // what a trimmed saccade sample is emitted as (pop)
+    // What a trimmed saccade sample is emitted as (pop), and the saccade id it then carries.
+    Event flank_event(int64_t& sacc) const;
     void set_saccade_direction(const Entry& e);
     void finish_record(int64_t id, int64_t last);
     struct LocalMotion {
@@ -452,6 +453,7 @@ private:
     int64_t sacc_onset_ = -1, sacc_id_ = -1, next_id_ = 0;
     int64_t sacc_moving_ = -1;  // the first sample not trimmed off the onset (trim_window_excess)
     Event last_emitted_ = Event::kUnknown;  // by pop(): a trimmed onset sample continues it
+    int64_t last_emitted_sacc_ = -1;        // ... and the saccade id it carried
     double sacc_peak_ = 0.0;
     double sacc_dir_x_ = 1.0, sacc_dir_y_ = 0.0;  // unit velocity direction at the peak
     double sacc_local_noise_ = 0.0;               // velocity mean + k SD before the onset
