@@ -22,12 +22,12 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     rate_ = std::isfinite(nominal_rate_hz) && nominal_rate_hz > 0 ? nominal_rate_hz : 1000.0;
     k_ = samples_for(p_.velocity_half_window_s, rate_, 1);
     kf_ = std::min(k_, samples_for(p_.offset_half_window_s, rate_, 1));
-    // The window's excess over its design, in samples, where it cannot shrink any more (one
-    // sample either side; above, rounding k leaves at most half a sample either way): whole
-    // samples from a third of one up, i.e. at 167 Hz and below.
+    // The window's excess over its design, where it cannot shrink any more (one sample either
+    // side; above, rounding k leaves at most half a sample either way). It is below one sample
+    // there, so the trim is one sample once the excess reaches a third of one: 167 Hz and below.
     if (p_.trim_window_excess != 0 && k_ == 1) {
-        const double excess = k_ - p_.velocity_half_window_s * rate_;
-        bound_trim_ = std::max(0, static_cast<int>(std::floor(excess + 2.0 / 3.0)));
+        const double excess = 1.0 - p_.velocity_half_window_s * rate_;
+        bound_trim_ = excess >= 1.0 / 3.0 ? 1 : 0;
     }
     w_ = samples_for(p_.smooth_half_window_s, rate_, 2);
     // Online: at least the velocity window and one sample for the local-minimum test; the
