@@ -183,6 +183,17 @@ TEST(LoadDatasets, FindsEveryDatasetUnderARootInNameOrder) {
     EXPECT_FALSE(load_lund2013((t.path() / "labelled").string()).ok());
 }
 
+TEST(LoadDatasets, FindsASetKeptInSplitFoldersDeepBelowTheRootAsOne) {
+    TempDir t;
+    write_lund(t, "labelled/otherlab/ground_truth/train");
+    write_lund(t, "labelled/otherlab/ground_truth/test/more");
+    auto all = load_datasets(t.path().string());
+    ASSERT_TRUE(all.ok()) << all.error().message;
+    ASSERT_EQ(all->datasets.size(), 1u);
+    EXPECT_EQ(all->datasets[0].name, "lund2013");
+    EXPECT_EQ(all->datasets[0].recordings.size(), 2u);
+}
+
 TEST(Lund2013, BadHeaderIsANoteNamingTheFile) {
     TempDir t;
     t.write("l/img__A_labelled_MN.csv", "t_us,x\n1,2\n");

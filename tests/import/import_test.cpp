@@ -171,6 +171,32 @@ TEST(ImportArff, MetadataPixelSizesThatAreNotCountsAreIgnoredWithAnIssue) {
     EXPECT_EQ(r.samples.size(), 2u);
 }
 
+TEST(ImportArff, PixelsWithoutTheDisplaysSizeAreNotedOnce) {
+    // 360-degree GTA-VI files write zeros for the millimetres: no degrees come from those.
+    const Read r = read_text(
+        "%@METADATA width_px 1920\n%@METADATA height_px 1080\n%@METADATA width_mm 0.00\n"
+        "%@METADATA height_mm 0.00\n%@METADATA distance_mm 0.00\n"
+        "@RELATION gaze_labels\n@ATTRIBUTE time INTEGER\n@ATTRIBUTE x NUMERIC\n"
+        "@ATTRIBUTE y NUMERIC\n@DATA\n2000,640,360\n6000,641,361\n");
+    EXPECT_EQ(r.info.screen.width_px, 1920);
+    EXPECT_TRUE(has_issue(r.stats, "no %@METADATA width_mm/height_mm/distance_mm above zero"));
+    EXPECT_EQ(r.samples.size(), 2u);
+}
+
+TEST(ImportArff, A360DegreeRecordingIsRefusedNamingWhy) {
+    auto r = open_memory(
+        "@RELATION gaze_360\n%@METADATA width_px 3840\n%@METADATA height_px 1920\n"
+        "@ATTRIBUTE time INTEGER\n@ATTRIBUTE x NUMERIC\n@ATTRIBUTE y NUMERIC\n"
+        "@ATTRIBUTE x_head NUMERIC\n@ATTRIBUTE y_head NUMERIC\n"
+        "@ATTRIBUTE angle_deg_head NUMERIC\n"
+        "@ATTRIBUTE labeller_1 {unassigned,fixation,saccade,SP,noise,VOR,OKN}\n@DATA\n"
+        "0,960.00,540.00,960.00,540.00,1.22,fixation\n",
+        "v.arff");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("v.arff: @RELATION gaze_360"), std::string::npos)
+        << r.error().message;
+}
+
 const char* kAscBinocular =
     "** CONVERTED FROM x.edf\n** SOURCE: EYELINK CL\n**\n"
     "MSG\t100 DISPLAY_COORDS = 0 0 1919 1079\n"

@@ -160,11 +160,16 @@ Result<DatasetSet> load_datasets(const std::string& root) {
     std::error_code ec;
     if (!fs::is_directory(root, ec)) return Error{root + ": not a directory"};
     DatasetSet out;
-    walk(fs::path(root), 3, out);
+    // Deep enough for a set kept in split folders below its own (root/labelled/<set>/
+    // ground_truth/test/*.arff is four below root); folders that hold a dataset end the walk.
+    constexpr int kMaxDepth = 6;
+    walk(fs::path(root), kMaxDepth, out);
     if (out.datasets.empty()) {
-        return Error{root +
-                     ": no labelled dataset found (lund2013 CSV, Hooge 2018, U'n'Eye, labelled "
-                     "ARFF, EyeLink ASC)"};
+        std::string why = root +
+                          ": no labelled dataset found (lund2013 CSV, Hooge 2018, U'n'Eye, "
+                          "labelled ARFF, EyeLink ASC)";
+        for (const auto& n : out.notes) why += "\n  " + n;
+        return Error{why};
     }
     // A fixed order, whatever the directory walk found first: the table and the fits depend on it.
     std::sort(out.datasets.begin(), out.datasets.end(),

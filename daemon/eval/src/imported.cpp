@@ -120,6 +120,17 @@ std::vector<Event> labels_from_events(const Imported& im, import::Eye eye) {
     return out;
 }
 
+// No file of a folder was usable: the error says why the first one was not.
+Error nothing_read(const std::string& what, const std::vector<std::string>& notes) {
+    if (notes.empty()) return Error{what};
+    std::string first = notes.front();
+    if (const std::string tail = " (skipped)"; first.ends_with(tail))
+        first.resize(first.size() - tail.size());
+    std::string m = what + ": " + first;
+    if (notes.size() > 1) m += " (and " + std::to_string(notes.size() - 1) + " more notes)";
+    return Error{m};
+}
+
 }  // namespace
 
 Result<Dataset> load_lund2013(const std::string& dir) {
@@ -204,7 +215,7 @@ Result<Dataset> load_arff(const std::string& dir) {
             r.coders[im->info.label_columns[k]] = im->labels[k];
         d.recordings.push_back(std::move(r));
     }
-    if (d.recordings.empty()) return make_error(dir + ": no labelled ARFF file");
+    if (d.recordings.empty()) return nothing_read(dir + ": no labelled ARFF file", d.notes);
     return d;
 }
 
@@ -245,7 +256,8 @@ Result<Dataset> load_asc_dir(const std::string& dir) {
         }
         d.recordings.push_back(std::move(*r));
     }
-    if (d.recordings.empty()) return make_error(dir + ": no EyeLink ASC file with parser events");
+    if (d.recordings.empty())
+        return nothing_read(dir + ": no EyeLink ASC file with parser events", d.notes);
     return d;
 }
 

@@ -120,6 +120,13 @@ public:
         }
         if (t_ < 0 || x_ < 0 || y_ < 0)
             return make_error(info_.path + ": ARFF needs attributes time, x and y");
+        // GTA-VI's 360-degree recordings (Agtzidis et al. 2019): x/y are an equirectangular
+        // frame's longitude and latitude and the head turns freely, which no flat display maps.
+        if (lower(info_.variant) == "gaze_360") {
+            return make_error(info_.path +
+                              ": @RELATION gaze_360 (equirectangular 360-degree gaze, head "
+                              "free) is not supported: its x/y are not on a display");
+        }
         width_px_ = info_.screen.width_px;
         height_px_ = info_.screen.height_px;
         if (!info_.screen.has_pixels()) {
@@ -127,6 +134,10 @@ public:
                 fallback_display(lines_.line_number(), "no %@METADATA width_px/height_px");
             width_px_ = d.width_px;
             height_px_ = d.height_px;
+        } else if (!info_.screen.has_size()) {
+            // Pixels without the display's size and distance (or with zeros) give no degrees.
+            fallback_display(lines_.line_number(),
+                             "no %@METADATA width_mm/height_mm/distance_mm above zero");
         }
         if (!labels_.empty()) info_.label_codes = "0 UNKNOWN, 1 FIX, 2 SACC, 3 SP, 4 NOISE";
         info_.clock = {64, 1e6};
