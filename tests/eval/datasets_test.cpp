@@ -202,8 +202,8 @@ TEST(Lund2013, BadHeaderIsANoteNamingTheFile) {
     EXPECT_NE(d.error().message.find("no labelled CSV"), std::string::npos);
 }
 
-TEST(Arff, LabelColumnsAreCodersAndUnlabelledFilesAreIgnored) {
-    TempDir t;
+// 20 samples at 250 Hz: fixation, then pursuit, NOISE at the end (two coder columns).
+std::string labelled_arff() {
     std::string a =
         "%@METADATA width_px 1280.0\n%@METADATA height_px 720.0\n%@METADATA width_mm 400.0\n"
         "%@METADATA height_mm 225.0\n%@METADATA distance_mm 450.0\n@RELATION gaze_labels\n"
@@ -217,10 +217,17 @@ TEST(Arff, LabelColumnsAreCodersAndUnlabelledFilesAreIgnored) {
                        : "NOISE") +
              "\n";
     }
-    t.write("g/clip_a.arff", a);
-    t.write("g/unlabelled.arff",
-            "@RELATION gaze\n@ATTRIBUTE time INTEGER\n@ATTRIBUTE x NUMERIC\n@ATTRIBUTE y "
-            "NUMERIC\n@ATTRIBUTE confidence NUMERIC\n@DATA\n1000,1,2,1.0\n");
+    return a;
+}
+
+const char* kUnlabelledArff =
+    "@RELATION gaze\n@ATTRIBUTE time INTEGER\n@ATTRIBUTE x NUMERIC\n@ATTRIBUTE y "
+    "NUMERIC\n@ATTRIBUTE confidence NUMERIC\n@DATA\n1000,1,2,1.0\n";
+
+TEST(Arff, LabelColumnsAreCodersAndUnlabelledFilesAreIgnored) {
+    TempDir t;
+    t.write("g/clip_a.arff", labelled_arff());
+    t.write("g/unlabelled.arff", kUnlabelledArff);
     auto d = load_arff((t.path() / "g").string());
     ASSERT_TRUE(d.ok()) << d.error().message;
     ASSERT_EQ(d->recordings.size(), 1u);
@@ -233,6 +240,19 @@ TEST(Arff, LabelColumnsAreCodersAndUnlabelledFilesAreIgnored) {
     EXPECT_EQ(r.coders.at("handlabeller1")[12], Event::kPursuit);
     EXPECT_EQ(r.coders.at("handlabeller_final")[12], Event::kPursuit);
     EXPECT_EQ(r.coders.at("handlabeller_final")[19], Event::kUnknown);  // NOISE: no event
+}
+
+TEST(LoadDatasets, AFolderThatIsNoDatasetItselfIsStillSearchedBelow) {
+    // Gaze without labels beside the labelled set's own folder (a recording's raw export).
+    TempDir t;
+    t.write("set/raw.arff", kUnlabelledArff);
+    t.write("set/ground_truth/clip_a.arff", labelled_arff());
+    auto all = load_datasets(t.path().string());
+    ASSERT_TRUE(all.ok()) << all.error().message;
+    ASSERT_EQ(all->datasets.size(), 1u);
+    EXPECT_EQ(all->datasets[0].recordings.size(), 1u);
+    ASSERT_EQ(all->notes.size(), 1u);  // and the folder that was not one says so
+    EXPECT_NE(all->notes[0].find("no labelled ARFF file"), std::string::npos) << all->notes[0];
 }
 
 TEST(Asc, ParserEventsBecomeOneCoderPerEye) {

@@ -142,8 +142,9 @@ void walk(const fs::path& dir, int depth, DatasetSet& out) {
         }
         return;
     }
+    // A folder that looked like a dataset but was none (raw gaze beside the labelled set's own
+    // folder) is noted, and its subfolders are still searched.
     for (const auto& f : failed) out.notes.push_back(f + " (skipped)");
-    if (!failed.empty()) return;
     if (depth <= 0) return;
     std::vector<fs::path> subdirs;
     std::error_code ec;
