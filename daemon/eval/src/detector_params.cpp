@@ -23,6 +23,7 @@ constexpr Field kFields[] = {
     {"stats_bound_dps", &DetectorParams::stats_bound_dps},
     {"peak_sd", &DetectorParams::peak_sd},
     {"onset_sd", &DetectorParams::onset_sd},
+    {"stats_exclude_flanks", nullptr, &DetectorParams::stats_exclude_flanks},
     {"min_peak_dps", &DetectorParams::min_peak_dps},
     {"onset_extra_samples", nullptr, &DetectorParams::onset_extra_samples},
     {"offset_peak_fraction", &DetectorParams::offset_peak_fraction},

@@ -24,11 +24,11 @@ EventDetector::EventDetector(const DetectorParams& params, double nominal_rate_h
     kf_ = std::min(k_, samples_for(p_.offset_half_window_s, rate_, 1));
     // The window's excess over its design, where it cannot shrink any more (one sample either
     // side; above, rounding k leaves at most half a sample either way). It is below one sample
-    // there, so the trim is one sample once the excess reaches a third of one: 167 Hz and below.
-    if (p_.trim_window_excess != 0 && k_ == 1) {
-        const double excess = 1.0 - p_.velocity_half_window_s * rate_;
-        bound_trim_ = excess >= 1.0 / 3.0 ? 1 : 0;
-    }
+    // there and counts from a third of one: 167 Hz and below. There a saccade's neighbours carry
+    // its jump, so its bounds move in by one sample (trim_window_excess) and their velocities stay
+    // out of the threshold statistics (stats_exclude_flanks).
+    wide_window_ = k_ == 1 && 1.0 - p_.velocity_half_window_s * rate_ >= 1.0 / 3.0;
+    bound_trim_ = p_.trim_window_excess != 0 && wide_window_ ? 1 : 0;
     w_ = samples_for(p_.smooth_half_window_s, rate_, 2);
     // Online: at least the velocity window and one sample for the local-minimum test; the
     // pursuit window is then truncated at the newest sample (decided with what is known).
@@ -309,6 +309,11 @@ void EventDetector::feed_stats(int64_t i) {
     const Entry& e = at(i);
     const double bound = p_.stats_bound_dps > 0 ? p_.stats_bound_dps : peak_;
     if (!is_inter(e.label) || !std::isfinite(e.v) || !(e.v < bound)) return;
+    if (p_.stats_exclude_flanks != 0 && wide_window_) {
+        for (int64_t j = std::max(base_, i - k_); j <= std::min(n_ - 1, i + k_); ++j) {
+            if (!is_inter(at(j).label) || !std::isfinite(at(j).v)) return;  // as offline
+        }
+    }
     update_stats(e.v, std::min(e.t - at(i - 1).t, 0.1));
 }
 
@@ -1075,6 +1080,18 @@ VelocityThresholds EventDetector::estimate_thresholds(std::span<const DetectorIn
         }
         d.flush();
         while (d.pop(out)) {}
+        if (params.stats_exclude_flanks != 0 && d.wide_window_) {
+            // A velocity whose window reaches a saccade (or a lost sample) measures that.
+            std::vector<double> clean(v.size(), kNaN);
+            for (size_t i = 0; i < v.size(); ++i) {
+                const size_t lo = i >= static_cast<size_t>(d.k_) ? i - d.k_ : 0;
+                const size_t hi = std::min(v.size() - 1, i + d.k_);
+                bool ok = true;
+                for (size_t j = lo; j <= hi && ok; ++j) ok = std::isfinite(v[j]);
+                if (ok) clean[i] = v[i];
+            }
+            v.swap(clean);
+        }
         VelocityThresholds next = nh_iterate(v, params, params.stats_bound_dps);
         std::array<double, 2> sum{};
         size_t m = 0;
