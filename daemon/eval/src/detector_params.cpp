@@ -47,6 +47,7 @@ constexpr Field kFields[] = {
     {"pursuit_join_ratio", &DetectorParams::pursuit_join_ratio},
     {"pursuit_join_min_speed", &DetectorParams::pursuit_join_min_speed},
     {"pursuit_join_max_deg", &DetectorParams::pursuit_join_max_deg},
+    {"pursuit_skip_jumps", nullptr, &DetectorParams::pursuit_skip_jumps},
     {"noise_prior_deg", &DetectorParams::noise_prior_deg},
     {"noise_prior_samples", &DetectorParams::noise_prior_samples},
     {"noise_reference_s", &DetectorParams::noise_reference_s},

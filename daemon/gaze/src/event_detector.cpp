@@ -678,6 +678,53 @@ EventDetector::WindowFit EventDetector::window_fit(int64_t lo, int64_t hi) const
     return f;
 }
 
+EventDetector::WindowFit EventDetector::window_fit_without_jumps(int64_t lo, int64_t hi) const {
+    // Interval i runs from sample i - 1 to i. Its speed in excess of the mean of the intervals
+    // either side is a jump the eye made within it; where that passes the peak threshold the
+    // eye made a saccade between two samples, which smooth movement does not, and the jump is
+    // taken out of every later position of the window.
+    const Entry& a = at(lo);
+    auto speed = [this](int64_t i, double& ux, double& uy) {
+        const Entry& p = at(i - 1);
+        const Entry& q = at(i);
+        const double dt = q.t - p.t;
+        if (!(dt > 0)) return false;
+        ux = (q.x - p.x) / dt;
+        uy = (q.y - p.y) / dt;
+        return true;
+    };
+    double ox = 0.0, oy = 0.0;
+    double st = 0, sx = 0, sy = 0, stt = 0, stx = 0, sty = 0;
+    for (int64_t i = lo; i <= hi; ++i) {
+        const Entry& q = at(i);
+        if (i >= lo + 2 && i + 1 <= hi) {
+            double bx, by, ux, uy, nx, ny;
+            if (speed(i - 1, bx, by) && speed(i, ux, uy) && speed(i + 1, nx, ny)) {
+                const double ex = ux - 0.5 * (bx + nx), ey = uy - 0.5 * (by + ny);
+                if (std::hypot(ex, ey) > peak_) {
+                    const double dt = q.t - at(i - 1).t;
+                    ox += ex * dt;
+                    oy += ey * dt;
+                }
+            }
+        }
+        const double rt = q.t - a.t, rx = q.x - a.x - ox, ry = q.y - a.y - oy;
+        st += rt;
+        sx += rx;
+        sy += ry;
+        stt += rt * rt;
+        stx += rt * rx;
+        sty += rt * ry;
+    }
+    const double m = static_cast<double>(hi - lo + 1);
+    WindowFit f;
+    f.stt = stt - st * st / m;
+    if (!(f.stt > 0)) return {};
+    f.stx = stx - st * sx / m;
+    f.sty = sty - st * sy / m;
+    return f;
+}
+
 double EventDetector::pursuit_threshold(double span, bool was_pursuit) const {
     // A fixation stays within a bounded area (anti-persistent drift), so its apparent speed
     // falls as the window grows while pursuit keeps its speed: the threshold scales as
@@ -781,7 +828,9 @@ void EventDetector::stage_smooth(int64_t d, int64_t newest) {
         e.pooled = was_pursuit && at(d - 1).pooled;
         return;
     }
-    const WindowFit own = window_fit(lo, hi);
+    const WindowFit own = p_.pursuit_skip_jumps != 0 && wide_window_
+                              ? window_fit_without_jumps(lo, hi)
+                              : window_fit(lo, hi);
     const double speed = std::hypot(own.vx(), own.vy());
     // Hysteresis continues a test's own decision: a sample that is pursuit only by the
     // catch-up pooling does not lower the next sample's bar for its own window (else one pooled
