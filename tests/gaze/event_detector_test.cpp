@@ -938,10 +938,10 @@ TEST(EventDetector, SaccadeNeighboursStayOutOfTheThresholdsAtLowRates) {
     }
 }
 
-// 62.5 Hz, 0.04 deg of white noise: 8 s of the eye still (`pursuit_dps` 0) or moving right at
+// 62.5 Hz, 0.04 deg of white noise: 8 s of the eye still (`speed_dps` 0) or moving right at
 // that speed, with a 0.9-deg jump made between two samples every `every_s` seconds (alternating
 // in direction when still, forward when pursuing). `jump[i]`: sample i ends a jump's interval.
-std::vector<DetectorInput> jumps_at_62_hz(double pursuit_dps, double every_s,
+std::vector<DetectorInput> jumps_at_62_hz(double speed_dps, double every_s,
                                           std::vector<bool>& jump) {
     constexpr double kRate = 62.5, kJump = 0.9;
     uint64_t seed = 41;
@@ -952,14 +952,14 @@ std::vector<DetectorInput> jumps_at_62_hz(double pursuit_dps, double every_s,
         const double t = i / kRate;
         const bool jumped = t >= next;
         if (jumped) {
-            offset += pursuit_dps > 0 || k % 2 == 0 ? kJump : -kJump;
+            offset += speed_dps > 0 || k % 2 == 0 ? kJump : -kJump;
             next += every_s;
             ++k;
         }
         DetectorInput d;
         d.t_s = t;
         d.valid = true;
-        d.x_deg = pursuit_dps * t + offset + 0.04 * test::noise(seed);
+        d.x_deg = speed_dps * t + offset + 0.04 * test::noise(seed);
         d.y_deg = 0.04 * test::noise(seed);
         in.push_back(d);
         jump.push_back(jumped);
