@@ -28,12 +28,22 @@ void check(const fovea::eval::Recording& r) {
     }
 }
 
+// The loaders read files: one folder per process, removed when libFuzzer exits normally (a
+// crash leaves it beside the crash artefact).
+struct ScratchDir {
+    fs::path path = fs::temp_directory_path() / ("fuzz_eval_imported." + std::to_string(getpid()));
+    ScratchDir() { fs::create_directories(path); }
+    ~ScratchDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    static const fs::path dir =
-        fs::temp_directory_path() / ("fuzz_eval_imported." + std::to_string(getpid()));
-    fs::create_directories(dir);
+    static const ScratchDir scratch;
+    const fs::path& dir = scratch.path;
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     const bool asc = text.find("@DATA") == text.npos && text.find("@data") == text.npos;
     const fs::path file = dir / (asc ? "input.asc" : "input.arff");
