@@ -648,28 +648,21 @@ double EventDetector::relative_speed(int64_t c) const {
 }
 
 EventDetector::WindowFit EventDetector::window_fit(int64_t lo, int64_t hi) const {
-    std::array<double, 6> sum{};
-    const double m = static_cast<double>(hi - lo + 1);
-    if (lo / kBlock == hi / kBlock) {
-        sum = at(hi).cum;
-        if (lo % kBlock != 0) {
-            const auto& before = at(lo - 1).cum;
-            for (size_t k = 0; k < sum.size(); ++k) sum[k] -= before[k];
-        }
-    } else {
-        // The window straddles a re-anchoring: sum it directly (rare).
-        const Entry& a = at(lo);
-        for (int64_t i = lo; i <= hi; ++i) {
-            const Entry& q = at(i);
-            const double rt = q.t - a.t, rx = q.x - a.x, ry = q.y - a.y;
-            sum[0] += rt;
-            sum[1] += rx;
-            sum[2] += ry;
-            sum[3] += rt * rt;
-            sum[4] += rt * rx;
-            sum[5] += rt * ry;
-        }
+    if (lo / kBlock != hi / kBlock) return fit_of(direct_sums(lo, hi, false), hi - lo + 1);
+    std::array<double, 6> sum = at(hi).cum;
+    if (lo % kBlock != 0) {
+        const auto& before = at(lo - 1).cum;
+        for (size_t k = 0; k < sum.size(); ++k) sum[k] -= before[k];
     }
+    return fit_of(sum, hi - lo + 1);
+}
+
+EventDetector::WindowFit EventDetector::window_fit_without_jumps(int64_t lo, int64_t hi) const {
+    return fit_of(direct_sums(lo, hi, true), hi - lo + 1);
+}
+
+EventDetector::WindowFit EventDetector::fit_of(const std::array<double, 6>& sum, int64_t count) {
+    const double m = static_cast<double>(count);
     WindowFit f;
     f.stt = sum[3] - sum[0] * sum[0] / m;
     if (!(f.stt > 0)) return {};
@@ -678,51 +671,50 @@ EventDetector::WindowFit EventDetector::window_fit(int64_t lo, int64_t hi) const
     return f;
 }
 
-EventDetector::WindowFit EventDetector::window_fit_without_jumps(int64_t lo, int64_t hi) const {
-    // Interval i runs from sample i - 1 to i. Its speed in excess of the mean of the intervals
-    // either side is a jump the eye made within it; where that passes the peak threshold the
-    // eye made a saccade between two samples, which smooth movement does not, and the jump is
-    // taken out of every later position of the window.
-    const Entry& a = at(lo);
-    auto speed = [this](int64_t i, double& ux, double& uy) {
+std::array<double, 6> EventDetector::direct_sums(int64_t lo, int64_t hi, bool skip_jumps) const {
+    // With skip_jumps: interval i runs from sample i - 1 to i. Its speed in excess of the mean
+    // of the intervals either side is a jump the eye made within it; where that passes the peak
+    // threshold the eye made a saccade between two samples, which smooth movement does not, and
+    // the jump is taken out of every later position of the window.
+    auto interval = [this](int64_t i) -> std::array<double, 2> {
         const Entry& p = at(i - 1);
         const Entry& q = at(i);
         const double dt = q.t - p.t;
-        if (!(dt > 0)) return false;
-        ux = (q.x - p.x) / dt;
-        uy = (q.y - p.y) / dt;
-        return true;
+        if (!(dt > 0)) return {kNaN, kNaN};  // no speed: never a jump
+        return {(q.x - p.x) / dt, (q.y - p.y) / dt};
     };
+    skip_jumps = skip_jumps && hi - lo >= 3;  // a jump needs an interval either side
+    std::array<double, 2> u_prev{}, u_cur{};
+    if (skip_jumps) {
+        u_prev = interval(lo + 1);
+        u_cur = interval(lo + 2);
+    }
+    std::array<double, 6> sum{};
+    const Entry& a = at(lo);
     double ox = 0.0, oy = 0.0;
-    double st = 0, sx = 0, sy = 0, stt = 0, stx = 0, sty = 0;
     for (int64_t i = lo; i <= hi; ++i) {
         const Entry& q = at(i);
-        if (i >= lo + 2 && i + 1 <= hi) {
-            double bx, by, ux, uy, nx, ny;
-            if (speed(i - 1, bx, by) && speed(i, ux, uy) && speed(i + 1, nx, ny)) {
-                const double ex = ux - 0.5 * (bx + nx), ey = uy - 0.5 * (by + ny);
-                if (std::hypot(ex, ey) > peak_) {
-                    const double dt = q.t - at(i - 1).t;
-                    ox += ex * dt;
-                    oy += ey * dt;
-                }
+        if (skip_jumps && i >= lo + 2 && i + 1 <= hi) {
+            const auto u_next = interval(i + 1);
+            const double ex = u_cur[0] - 0.5 * (u_prev[0] + u_next[0]);
+            const double ey = u_cur[1] - 0.5 * (u_prev[1] + u_next[1]);
+            if (std::hypot(ex, ey) > peak_) {
+                const double dt = q.t - at(i - 1).t;
+                ox += ex * dt;
+                oy += ey * dt;
             }
+            u_prev = u_cur;
+            u_cur = u_next;
         }
         const double rt = q.t - a.t, rx = q.x - a.x - ox, ry = q.y - a.y - oy;
-        st += rt;
-        sx += rx;
-        sy += ry;
-        stt += rt * rt;
-        stx += rt * rx;
-        sty += rt * ry;
+        sum[0] += rt;
+        sum[1] += rx;
+        sum[2] += ry;
+        sum[3] += rt * rt;
+        sum[4] += rt * rx;
+        sum[5] += rt * ry;
     }
-    const double m = static_cast<double>(hi - lo + 1);
-    WindowFit f;
-    f.stt = stt - st * st / m;
-    if (!(f.stt > 0)) return {};
-    f.stx = stx - st * sx / m;
-    f.sty = sty - st * sy / m;
-    return f;
+    return sum;
 }
 
 double EventDetector::pursuit_threshold(double span, bool was_pursuit) const {

@@ -388,6 +388,10 @@ private:
     WindowFit window_fit(int64_t lo, int64_t hi) const;
     // The same fit with every saccade-fast one-interval jump taken out (pursuit_skip_jumps).
     WindowFit window_fit_without_jumps(int64_t lo, int64_t hi) const;
+    // Sums of t, x, y, t^2, t x, t y over [lo, hi] relative to sample lo (the jumps taken out),
+    // and the fit they give over `count` samples.
+    std::array<double, 6> direct_sums(int64_t lo, int64_t hi, bool skip_jumps) const;
+    static WindowFit fit_of(const std::array<double, 6>& sum, int64_t count);
     // Pursuit by pooling the window [lo, hi] (its fit `own`) with the pieces across the
     // catch-up saccades next to it (pursuit_catch_up).
     bool catch_up_pursuit(int64_t d, int64_t lo, int64_t hi, int64_t newest, const WindowFit& own,
