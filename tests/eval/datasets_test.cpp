@@ -297,6 +297,30 @@ TEST(Asc, ParserEventsBecomeOneCoderPerEye) {
     EXPECT_FALSE(load_asc_dir((none.path() / "x").string()).ok());
 }
 
+// A folder none of whose files is usable says why the first one was not, even when an earlier
+// note (a malformed row of that same file) came first.
+TEST(Asc, AFolderWithNoUsableFileSaysWhyTheFirstFailed) {
+    TempDir t;
+    std::string asc =
+        "** CONVERTED FROM x.edf\nMSG\t100 DISPLAY_COORDS = 0 0 1919 1079\n"
+        "START\t1000 \tLEFT\tSAMPLES\tEVENTS\n"
+        "SAMPLES\tGAZE\tLEFT\tRATE\t 500.00\tTRACKING\tCR\tFILTER\t2\n";
+    for (int i = 0; i < 20; ++i)
+        asc += std::to_string(1000 + 2 * i) + (i == 3 ? "\t  bad" : "\t  960.0") +
+               "\t  540.0\t 3879.0\t.....\n";
+    t.write("x/rec.asc", asc + "END\t1040 \tSAMPLES\tEVENTS\tRES\t  45.90\t  46.06\n");
+    auto d = load_asc_dir((t.path() / "x").string());
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("rec.asc: no EFIX/ESACC/EBLINK events"), std::string::npos)
+        << d.error().message;
+    t.write("g/v.arff",
+            "@RELATION gaze_360\n@ATTRIBUTE time INTEGER\n@ATTRIBUTE x NUMERIC\n"
+            "@ATTRIBUTE y NUMERIC\n@ATTRIBUTE l {fixation,saccade}\n@DATA\n0,1,2,fixation\n");
+    auto a = load_arff((t.path() / "g").string());
+    ASSERT_FALSE(a.ok());
+    EXPECT_NE(a.error().message.find("@RELATION gaze_360"), std::string::npos) << a.error().message;
+}
+
 // --decimate: every factor-th sample and label from the first, labels staying aligned with
 // their samples; the rate follows; a factor of 0 or 1 leaves the recording as it is.
 TEST(Decimate, KeepsEveryNthSampleWithItsLabelsAndDividesTheRate) {

@@ -171,7 +171,7 @@ TEST(ImportArff, MetadataPixelSizesThatAreNotCountsAreIgnoredWithAnIssue) {
     EXPECT_EQ(r.samples.size(), 2u);
 }
 
-TEST(ImportArff, PixelsWithoutTheDisplaysSizeAreNotedOnce) {
+TEST(ImportArff, PixelsWithoutTheDisplaysSizeAreNoted) {
     // 360-degree GTA-VI files write zeros for the millimetres: no degrees come from those.
     const Read r = read_text(
         "%@METADATA width_px 1920\n%@METADATA height_px 1080\n%@METADATA width_mm 0.00\n"

@@ -120,16 +120,21 @@ std::vector<Event> labels_from_events(const Imported& im, import::Eye eye) {
     return out;
 }
 
-// No file of a folder was usable: the error says why the first one was not.
-Error nothing_read(const std::string& what, const std::vector<std::string>& notes) {
-    if (notes.empty()) return Error{what};
-    std::string first = notes.front();
-    if (const std::string tail = " (skipped)"; first.ends_with(tail))
-        first.resize(first.size() - tail.size());
-    std::string m = what + ": " + first;
-    if (notes.size() > 1) m += " (and " + std::to_string(notes.size() - 1) + " more notes)";
-    return Error{m};
-}
+// The files of a folder that could not be read: each is a note, and when none could, the
+// folder's error says why the first one failed.
+struct Skipped {
+    std::string first;
+    size_t count = 0;
+    void add(const std::string& why, std::vector<std::string>& notes) {
+        if (count++ == 0) first = why;
+        notes.push_back(why + " (skipped)");
+    }
+    Error none_read(const std::string& what) const {
+        if (count == 0) return Error{what};
+        return Error{what + ": " + first +
+                     (count > 1 ? " (and " + std::to_string(count - 1) + " more)" : "")};
+    }
+};
 
 }  // namespace
 
@@ -145,6 +150,7 @@ Result<Dataset> load_lund2013(const std::string& dir) {
         Imported data;
     };
     std::map<std::pair<std::string, std::string>, std::vector<CoderFile>> by_recording;
+    Skipped skipped;
     for (const auto& p : files_with(dir, ".csv")) {
         const std::string file = p.filename().string();
         if (file.rfind("fix_by_", 0) == 0) {
@@ -155,11 +161,11 @@ Result<Dataset> load_lund2013(const std::string& dir) {
         }
         auto im = read_all(p.string());
         if (!im) {
-            d.notes.push_back(im.error().message + " (skipped)");
+            skipped.add(im.error().message, d.notes);
             continue;
         }
         if (im->info.format != import::Format::kLund2013 || im->labels.empty()) {
-            d.notes.push_back(file + ": not a labelled lund2013 CSV (skipped)");
+            skipped.add(file + ": not a labelled lund2013 CSV", d.notes);
             continue;
         }
         note_issues(*im, file, d.notes);
@@ -175,7 +181,7 @@ Result<Dataset> load_lund2013(const std::string& dir) {
         by_recording[{stimulus, rec}].push_back(
             {us == std::string::npos ? "?" : stem.substr(us + 1), std::move(*im)});
     }
-    if (by_recording.empty()) return make_error(dir + ": no labelled CSV files");
+    if (by_recording.empty()) return skipped.none_read(dir + ": no labelled CSV files");
     for (auto& [key, files] : by_recording) {
         // The coders' files of a recording differ by 1-3 samples: aligned from the start,
         // truncated to the shortest; the samples are the first coder's.
@@ -199,10 +205,11 @@ Result<Dataset> load_arff(const std::string& dir) {
     d.name = "gazecom";
     d.path = dir;
     d.scheme = {Event::kFixation, Event::kSaccade, Event::kPursuit};
+    Skipped skipped;
     for (const auto& p : files_with(dir, ".arff")) {
         auto im = read_all(p.string());
         if (!im) {
-            d.notes.push_back(im.error().message + " (skipped)");
+            skipped.add(im.error().message, d.notes);
             continue;
         }
         if (im->info.label_columns.empty()) continue;  // gaze without labels: nothing to score
@@ -215,7 +222,7 @@ Result<Dataset> load_arff(const std::string& dir) {
             r.coders[im->info.label_columns[k]] = im->labels[k];
         d.recordings.push_back(std::move(r));
     }
-    if (d.recordings.empty()) return nothing_read(dir + ": no labelled ARFF file", d.notes);
+    if (d.recordings.empty()) return skipped.none_read(dir + ": no labelled ARFF file");
     return d;
 }
 
@@ -248,16 +255,17 @@ Dataset eyelink_parser_dataset(std::string name, std::string path) {
 
 Result<Dataset> load_asc_dir(const std::string& dir) {
     Dataset d = eyelink_parser_dataset("eyelink", dir);
+    Skipped skipped;
     for (const auto& p : files_with(dir, ".asc")) {
         auto r = load_asc(p.string(), &d.notes);
         if (!r) {
-            d.notes.push_back(r.error().message + " (skipped)");
+            skipped.add(r.error().message, d.notes);
             continue;
         }
         d.recordings.push_back(std::move(*r));
     }
     if (d.recordings.empty())
-        return nothing_read(dir + ": no EyeLink ASC file with parser events", d.notes);
+        return skipped.none_read(dir + ": no EyeLink ASC file with parser events");
     return d;
 }
 
