@@ -18,6 +18,7 @@
 
 #include "daemon.hpp"
 #include "fovea/gaze/calibration.hpp"
+#include "fovea/gaze/target_dwell.hpp"
 #include "fovea/json_integer.hpp"
 #include "paths.hpp"
 
@@ -132,6 +133,9 @@ struct Point {
     bool done = false;
     std::size_t samples = 0, invalid = 0, settle_discarded = 0;
     int64_t collect_from_ns = 0, collect_until_ns = 0;  // live points
+    // Live points: what arrived in the window, fitted from once it ends (gaze/target_dwell.hpp).
+    std::vector<gaze::TargetSample> collected;
+    gaze::TargetDwell dwell;
 };
 
 struct Session {
@@ -176,10 +180,11 @@ public:
             return;
         }
         if (t >= p.collect_until_ns) {
-            p.done = true;
+            end_live_point(p);
             return;
         }
-        add(p, raw.left, raw.right);
+        if (p.collected.size() < kMaxSamplesPerPoint)
+            p.collected.push_back({t, raw.left, raw.right});
     }
 
     json start(const json& req) {
@@ -365,6 +370,12 @@ public:
             if (p.live) {
                 pj["settle_discarded"] = p.settle_discarded;
                 if (!p.done) pj["remaining_ms"] = remaining_ms(p);
+                if (p.done) {
+                    pj["lost"] = p.dwell.lost;
+                    pj["blink_edges"] = p.dwell.lid;
+                    pj["not_settled"] = p.dwell.unsettled;
+                    pj["dwell_ms"] = p.dwell.dwell_s * 1000;
+                }
             }
             points.push_back(pj);
         }
@@ -404,7 +415,26 @@ private:
     void end_stalled_point() {
         if (!session_ || session_->points.empty()) return;
         Point& p = session_->points.back();
-        if (!p.done && p.live && now_ns() > p.collect_until_ns + kStallNs) p.done = true;
+        if (!p.done && p.live && now_ns() > p.collect_until_ns + kStallNs) end_live_point(p);
+    }
+
+    // Only the samples with the eyes settled on the target go into the fit: not those before
+    // they arrived, nor a blink's lid artefacts. A point without a fixation adds nothing, and the
+    // log and calibrate.status say why.
+    void end_live_point(Point& p) {
+        p.done = true;
+        p.dwell = gaze::target_dwell(p.collected, display_, session_->left, session_->right);
+        for (const std::size_t i : p.dwell.keep) add(p, p.collected[i].left, p.collected[i].right);
+        if (p.dwell.keep.empty()) {
+            log()->warn(
+                "calibration: point {} ({:.3f}, {:.3f}) adds no samples: no fixation of {} ms on "
+                "it ({} samples, {} lost, {} at a blink's edges, {} moving; the last dwell {:.0f} "
+                "ms)",
+                session_->points.size() - 1, p.x, p.y, gaze::TargetDwellRules{}.min_dwell_s * 1000,
+                p.collected.size(), p.dwell.lost, p.dwell.lid, p.dwell.unsettled,
+                p.dwell.dwell_s * 1000);
+        }
+        p.collected = {};
     }
 
     int64_t remaining_ms(const Point& p) const {

@@ -1,0 +1,63 @@
+// Which of the samples collected while a calibration target was shown show the eyes settled on
+// it. A fixed settle time cannot cover everything a real eye does after a target appears: a
+// blink delays the saccade by up to ~0.4 s, the lid's edges drag the tracked pupil for tens of
+// ms around the lost samples, and a corrective saccade follows an undershoot. Samples from
+// those moments, fitted as if the eye had been on the target, bend the whole calibration.
+//
+//   auto d = target_dwell(samples, display, eyes);  // once the target's collection ended
+//   for (size_t i : d.keep) calibration.add_sample(target, samples[i].left, samples[i].right);
+//
+// Pure function; thread-safe.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "fovea/gaze/sample.hpp"
+
+namespace fovea::gaze {
+
+// One raw sample in arrival order; x/y nominally normalized display coordinates (what drivers
+// deliver before a calibration), so distances convert to degrees through the display.
+struct TargetSample {
+    int64_t t_ns = 0;
+    EyeSample left, right;
+};
+
+struct TargetDwellRules {
+    // Around a lost sample (no used eye tracked), the lid's artefacts (as
+    // DetectorParams::blink_pre_s / blink_post_s, which the event detector labels blink).
+    double lid_before_s = 0.030;
+    double lid_after_s = 0.060;
+    // The final dwell ends, walking back in time, where two consecutive samples lie farther than
+    // this from its median: fixational eye movements (drift, microsaccades) stay within ~1 deg
+    // (Martinez-Conde et al. 2004), so a larger step is a saccade to the target.
+    double dwell_radius_deg = 1.5;
+    // ... or farther than this many times the dwell's own sample noise (RMS sample-to-sample
+    // distance / sqrt 2), for trackers noisier than the radius allows.
+    double noise_radius_factor = 3.0;
+    // A dwell entered by a saccade starts this much later: the saccade's last, slow part is
+    // within the radius, and post-saccadic oscillations last 10-40 ms (Nystrom & Holmqvist
+    // 2010's glissades; the simulated tracker's PSO).
+    double settle_after_saccade_s = 0.040;
+    // A dwell shorter than this is no fixation (the conventional minimum fixation duration of
+    // dispersion-based detectors, Salvucci & Goldberg 2000): nothing is kept.
+    double min_dwell_s = 0.100;
+};
+
+struct TargetDwell {
+    std::vector<size_t> keep;  // indices into the samples, in order
+    size_t lost = 0;           // no used eye tracked
+    size_t lid = 0;            // within a blink's lid artefacts
+    size_t unsettled = 0;      // outside the final dwell (the eyes still on their way, a one-
+                               // sample spike), or every other sample if the dwell was too short
+    double dwell_s = 0;        // duration of the final dwell, from its first kept sample
+};
+
+// `use_left` / `use_right`: the eyes being calibrated. A sample with one of them lost is kept (the
+// calibration skips that eye); with none tracked it is lost.
+TargetDwell target_dwell(const std::vector<TargetSample>& samples, const DisplayGeometry& display,
+                         bool use_left, bool use_right, const TargetDwellRules& rules = {});
+
+}  // namespace fovea::gaze
