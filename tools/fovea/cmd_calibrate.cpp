@@ -63,17 +63,20 @@ std::vector<std::pair<double, double>> calibration_targets(int n) {
     return t;
 }
 
+constexpr int kRetriesPerTarget = 2;
+
 // Validation targets differ from the calibration targets: the fit has not seen them.
 const std::vector<std::pair<double, double>> kValidationTargets = {
     {0.4, 0.45}, {0.2, 0.25}, {0.8, 0.3}, {0.75, 0.75}, {0.25, 0.7}};
 
-void wait_for_point(std::size_t index) {
+// The point's calibrate.status entry once it is done.
+json wait_for_point(std::size_t index) {
     for (;;) {
         const json s = request({{"cmd", "calibrate.status"}});
         const json& session = s["session"];
         if (session.is_null()) throw std::runtime_error("the calibration session was cancelled");
         const json& p = session["points"].at(index);
-        if (p["done"].get<bool>()) return;
+        if (p["done"].get<bool>()) return p;
         const int64_t left = p.value("remaining_ms", int64_t{50});
         std::this_thread::sleep_for(std::chrono::milliseconds(std::clamp<int64_t>(left, 20, 200)));
     }
@@ -213,17 +216,32 @@ void run_calibrate(const CalibrateOptions& o) {
     const double collect_ms = started["collect_ms"].get<double>();
     try {
         const auto targets = calibration_targets(o.points);
+        std::size_t shown = 0;  // the session's point index
         for (std::size_t i = 0; i < targets.size(); ++i) {
             const auto [x, y] = targets[i];
-            const json p = request({{"cmd", "calibrate.point"}, {"x", x}, {"y", y}});
-            if (i == 0 && p.value("devices_following", 0) == 0 && !o.json_out)
+            // A target the eyes never settled on (a blink, a late look) adds nothing to the fit;
+            // it is shown again, as eye-tracker calibrations redo a point.
+            for (int attempt = 0; attempt <= kRetriesPerTarget; ++attempt) {
+                const json p = request({{"cmd", "calibrate.point"}, {"x", x}, {"y", y}});
+                if (shown == 0 && p.value("devices_following", 0) == 0 && !o.json_out)
+                    std::fprintf(stderr,
+                                 "fovea calibrate: no device moves its gaze to the targets by "
+                                 "itself; the user must look at each target as it is shown\n");
+                if (!o.json_out)
+                    std::fprintf(stderr, "target %zu/%zu at (%.2f, %.2f)\n", i + 1, targets.size(),
+                                 x, y);
+                const json done = wait_for_point(shown++);
+                if (done.value("samples", 0) > 0) break;
                 std::fprintf(stderr,
-                             "fovea calibrate: no device moves its gaze to the targets by "
-                             "itself; the user must look at each target as it is shown\n");
-            if (!o.json_out)
-                std::fprintf(stderr, "target %zu/%zu at (%.2f, %.2f)\n", i + 1, targets.size(), x,
-                             y);
-            wait_for_point(i);
+                             "fovea calibrate: target %zu/%zu: the eyes did not settle on it "
+                             "(%d samples: %d lost, %d at a blink's edges, %d moving)%s\n",
+                             i + 1, targets.size(),
+                             done.value("samples", 0) + done.value("not_settled", 0) +
+                                 done.value("blink_edges", 0) + done.value("lost", 0),
+                             done.value("lost", 0), done.value("blink_edges", 0),
+                             done.value("not_settled", 0),
+                             attempt < kRetriesPerTarget ? "; showing it again" : "; skipped");
+            }
         }
     } catch (...) {
         (void)daemon::control_request(daemon::control_socket_path(global_options().instance),
