@@ -423,7 +423,16 @@ private:
     // log and calibrate.status say why.
     void end_live_point(Point& p) {
         p.done = true;
-        p.dwell = gaze::target_dwell(p.collected, display_, session_->left, session_->right);
+        std::vector<gaze::TargetSample> in_degrees = p.collected;
+        for (auto& s : in_degrees) {
+            for (gaze::EyeSample* e : {&s.left, &s.right}) {
+                double x, y;
+                display_.to_degrees(e->x, e->y, x, y);
+                e->x = x;
+                e->y = y;
+            }
+        }
+        p.dwell = gaze::target_dwell(in_degrees, session_->left, session_->right);
         for (const std::size_t i : p.dwell.keep) add(p, p.collected[i].left, p.collected[i].right);
         if (p.dwell.keep.empty()) {
             log()->warn(

@@ -10,9 +10,8 @@ namespace fovea::gaze {
 namespace {
 
 constexpr int64_t kMs = 1'000'000;
-const DisplayGeometry kDisplay{};
 
-// 1 kHz samples; where(t_ms, x, y) sets the gaze in degrees and returns false for a lost sample.
+// 1 kHz samples in degrees; where(t_ms, x, y) sets the gaze and returns false for a lost sample.
 template <typename Where>
 std::vector<TargetSample> record(int ms, Where where) {
     std::vector<TargetSample> out;
@@ -27,7 +26,8 @@ std::vector<TargetSample> record(int ms, Where where) {
         double x = 0, y = 0;
         if (where(t, x, y)) {
             for (EyeSample* e : {&s.left, &s.right}) {
-                kDisplay.to_normalized(x + noise(), y + noise(), e->x, e->y);
+                e->x = x + noise();
+                e->y = y + noise();
                 e->valid = true;
             }
         }
@@ -37,9 +37,7 @@ std::vector<TargetSample> record(int ms, Where where) {
 }
 
 double offset_deg(const TargetSample& s, double tx, double ty) {
-    double x, y;
-    kDisplay.to_degrees(s.left.x, s.left.y, x, y);
-    return std::hypot(x - tx, y - ty);
+    return std::hypot(s.left.x - tx, s.left.y - ty);
 }
 
 TEST(TargetDwell, KeepsTheSettledDwellAfterALateArrivalAndNothingNearTheLids) {
@@ -54,7 +52,7 @@ TEST(TargetDwell, KeepsTheSettledDwellAfterALateArrivalAndNothingNearTheLids) {
         y = 3.0 * occlusion * occlusion;
         return true;
     });
-    const TargetDwell d = target_dwell(samples, kDisplay, true, true);
+    const TargetDwell d = target_dwell(samples, true, true);
     EXPECT_EQ(d.lost, 40u);
     EXPECT_EQ(d.lid, 30u + 60u) << "30 ms before the loss, 60 ms after";
     ASSERT_FALSE(d.keep.empty());
@@ -73,7 +71,7 @@ TEST(TargetDwell, ADwellShorterThanAFixationKeepsNothing) {
         x = t < 330 ? 6.0 : 0.0;  // arrives 70 ms before the collection ends
         return true;
     });
-    const TargetDwell d = target_dwell(samples, kDisplay, true, true);
+    const TargetDwell d = target_dwell(samples, true, true);
     EXPECT_TRUE(d.keep.empty());
     EXPECT_EQ(d.unsettled, samples.size());
     EXPECT_NEAR(d.dwell_s, 0.069 - 0.040, 0.002) << "after the landing's settling";
@@ -85,7 +83,7 @@ TEST(TargetDwell, AOneSampleSpikeAndASmallMicrosaccadeDoNotEndTheDwell) {
         y = 0;
         return true;
     });
-    const TargetDwell d = target_dwell(samples, kDisplay, true, true);
+    const TargetDwell d = target_dwell(samples, true, true);
     EXPECT_EQ(d.keep.size(), 299u);
     EXPECT_EQ(d.unsettled, 1u);
     EXPECT_NEAR(d.dwell_s, 0.299, 0.001);
@@ -94,10 +92,10 @@ TEST(TargetDwell, AOneSampleSpikeAndASmallMicrosaccadeDoNotEndTheDwell) {
 TEST(TargetDwell, OneEyeLostIsNoBlinkAndAnUnusedEyeIsIgnored) {
     auto samples = record(200, [](int, double&, double&) { return true; });
     for (auto& s : samples) s.right = EyeSample{};
-    TargetDwell d = target_dwell(samples, kDisplay, true, true);
+    TargetDwell d = target_dwell(samples, true, true);
     EXPECT_EQ(d.lost, 0u);
     EXPECT_EQ(d.keep.size(), samples.size());
-    d = target_dwell(samples, kDisplay, false, true);  // calibrating the right eye only
+    d = target_dwell(samples, false, true);  // calibrating the right eye only
     EXPECT_EQ(d.lost, samples.size());
     EXPECT_TRUE(d.keep.empty());
 }
@@ -119,17 +117,17 @@ TEST(TargetDwell, ANoisyTrackerWidensTheRadiusInsteadOfEndingTheDwell) {
     });
     TargetDwellRules fixed_radius;
     fixed_radius.noise_radius_factor = 0;
-    EXPECT_LT(target_dwell(samples, kDisplay, true, true, fixed_radius).dwell_s, 0.4)
+    EXPECT_LT(target_dwell(samples, true, true, fixed_radius).dwell_s, 0.4)
         << "the test's noise does cross 1.5 deg twice in a row";
-    const TargetDwell d = target_dwell(samples, kDisplay, true, true);
+    const TargetDwell d = target_dwell(samples, true, true);
     EXPECT_NEAR(d.dwell_s, 0.499, 0.001);
     EXPECT_EQ(d.keep.size(), samples.size());
 }
 
 TEST(TargetDwell, NothingOrOnlyLostSamplesKeepNothing) {
-    EXPECT_TRUE(target_dwell({}, kDisplay, true, true).keep.empty());
+    EXPECT_TRUE(target_dwell({}, true, true).keep.empty());
     const auto lost = record(100, [](int, double&, double&) { return false; });
-    const TargetDwell d = target_dwell(lost, kDisplay, true, true);
+    const TargetDwell d = target_dwell(lost, true, true);
     EXPECT_TRUE(d.keep.empty());
     EXPECT_EQ(d.lost, 100u);
 }

@@ -21,6 +21,7 @@
 
 #include "command.hpp"
 #include "control_client.hpp"
+#include "fovea/gaze/target_dwell.hpp"
 #include "fovea/ring.h"
 #include "gaze_format.hpp"
 #include "paths.hpp"
@@ -85,10 +86,11 @@ json wait_for_point(std::size_t index) {
 // Accuracy and precision (degrees) per eye of the published gaze while fresh targets are shown:
 // the offset of every valid sample from its target, and per target the RMS sample-to-sample
 // distance and the SD around the mean (the published gaze is filtered, so precision is better
-// than the raw figures). As in common eye-tracker practice (Pupil's accuracy visualiser, for
-// one), samples more than kOutlierDeg from the target are excluded and counted: the eye was not
-// on the target then (still travelling after a blink, or a lid artefact), which says nothing
-// about the calibration.
+// than the raw figures). Only the final dwell on each target counts, as in the fit
+// (gaze/target_dwell.hpp: not the eyes on their way, nor a blink's lid edges). As in common
+// eye-tracker practice (Pupil's accuracy visualiser, for one), samples more than kOutlierDeg
+// from the target are excluded and counted too: the eye was not on the target then, which says
+// nothing about the calibration.
 constexpr double kOutlierDeg = 5.0;
 
 json validate(int device, double settle_ms, double collect_ms) {
@@ -97,7 +99,7 @@ json validate(int device, double settle_ms, double collect_ms) {
         per_eye;  // per target
     std::map<std::string, double> offset_sum, offset_n;
     std::map<std::string, uint64_t> excluded;
-    uint64_t calibrated = 0, records = 0;
+    uint64_t calibrated = 0, records = 0, lost = 0, blink_edges = 0, not_settled = 0;
     for (const auto& [x, y] : kValidationTargets) {
         // Records are selected by capture time: the chain publishes with a look-ahead delay, so
         // what arrives right after the settle time may still show the previous target.
@@ -108,7 +110,7 @@ json validate(int device, double settle_ms, double collect_ms) {
         // The daemon converts the target to degrees with its own display geometry.
         const json shown = request({{"cmd", "calibrate.target"}, {"x", x}, {"y", y}});
         const double tx = shown["deg_x"].get<double>(), ty = shown["deg_y"].get<double>();
-        std::map<std::string, std::vector<std::pair<double, double>>> here;
+        std::vector<gaze::TargetSample> window;
         bool past = false;
         while (!past && monotonic_ns() < until_ns + 2'000'000'000) {
             if (!ring->wait(cursor, 100)) continue;
@@ -118,25 +120,41 @@ json validate(int device, double settle_ms, double collect_ms) {
                 if (r.t_capture_ns < from_ns || r.t_capture_ns >= until_ns) continue;
                 ++records;
                 calibrated += (r.flags & FOVEA_FLAG_CALIBRATED) != 0;
-                for (auto [name, eye] : {std::pair{"left", &r.left}, {"right", &r.right}}) {
-                    if (!(eye->valid & FOVEA_VALID)) continue;
-                    const double offset = std::hypot(eye->deg_x - tx, eye->deg_y - ty);
-                    if (!(offset <= kOutlierDeg)) {
-                        ++excluded[name];
-                        continue;
-                    }
-                    here[name].emplace_back(eye->deg_x, eye->deg_y);
-                    offset_sum[name] += offset;
-                    offset_n[name] += 1;
+                gaze::TargetSample t;
+                t.t_ns = r.t_capture_ns;
+                for (auto [out, eye] : {std::pair{&t.left, &r.left}, {&t.right, &r.right}}) {
+                    out->valid = (eye->valid & FOVEA_VALID) != 0;
+                    out->x = eye->deg_x;
+                    out->y = eye->deg_y;
                 }
+                window.push_back(t);
+            }
+        }
+        const gaze::TargetDwell dwell = gaze::target_dwell(window, true, true);
+        lost += dwell.lost;
+        blink_edges += dwell.lid;
+        not_settled += dwell.unsettled;
+        std::map<std::string, std::vector<std::pair<double, double>>> here;
+        for (const std::size_t i : dwell.keep) {
+            for (auto [name, eye] :
+                 {std::pair{"left", &window[i].left}, {"right", &window[i].right}}) {
+                if (!eye->valid) continue;
+                const double offset = std::hypot(eye->x - tx, eye->y - ty);
+                if (!(offset <= kOutlierDeg)) {
+                    ++excluded[name];
+                    continue;
+                }
+                here[name].emplace_back(eye->x, eye->y);
+                offset_sum[name] += offset;
+                offset_n[name] += 1;
             }
         }
         for (auto& [name, v] : here) per_eye[name].push_back(std::move(v));
     }
     request({{"cmd", "calibrate.target"}, {"hide", true}});
-    json out = {{"targets", kValidationTargets.size()},
-                {"records", records},
-                {"calibrated_records", calibrated}};
+    json out = {{"targets", kValidationTargets.size()}, {"records", records},
+                {"calibrated_records", calibrated},     {"lost_records", lost},
+                {"blink_edge_records", blink_edges},    {"not_settled_records", not_settled}};
     for (const char* name : {"left", "right"}) {
         if (!offset_n[name]) {
             out[name] = nullptr;
@@ -198,11 +216,14 @@ void print_table(const json& result) {
     }
     if (result.contains("validation")) {
         const json& v = result["validation"];
+        const auto count = [&](const char* key) {
+            return static_cast<unsigned long long>(v[key].get<uint64_t>());
+        };
         std::printf(
-            "validation: %d fresh targets, %llu of %llu published records flagged calibrated\n",
-            v["targets"].get<int>(),
-            static_cast<unsigned long long>(v["calibrated_records"].get<uint64_t>()),
-            static_cast<unsigned long long>(v["records"].get<uint64_t>()));
+            "validation: %d fresh targets, %llu of %llu published records flagged calibrated; "
+            "left out: %llu lost, %llu at a blink's edges, %llu before the eyes settled\n",
+            v["targets"].get<int>(), count("calibrated_records"), count("records"),
+            count("lost_records"), count("blink_edge_records"), count("not_settled_records"));
     }
 }
 

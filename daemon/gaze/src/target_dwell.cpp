@@ -20,8 +20,8 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-TargetDwell target_dwell(const std::vector<TargetSample>& samples, const DisplayGeometry& display,
-                         bool use_left, bool use_right, const TargetDwellRules& rules) {
+TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left, bool use_right,
+                         const TargetDwellRules& rules) {
     TargetDwell out;
     const auto eye = [&](size_t i, int e) -> const EyeSample* {
         const EyeSample& s = e == 0 ? samples[i].left : samples[i].right;
@@ -50,13 +50,16 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, const Display
     }
     if (clean.empty()) return out;
 
-    // Positions in degrees; NaN for an eye not used or not tracked.
+    // Positions; NaN for an eye not used or not tracked.
     std::vector<std::array<double, 4>> deg(clean.size());
     for (size_t k = 0; k < clean.size(); ++k) {
         auto& d = deg[k];
         d.fill(kNaN);
         for (int e = 0; e < 2; ++e) {
-            if (const EyeSample* s = eye(clean[k], e)) display.to_degrees(s->x, s->y, d[2 * e], d[2 * e + 1]);
+            if (const EyeSample* s = eye(clean[k], e)) {
+                d[2 * e] = s->x;
+                d[2 * e + 1] = s->y;
+            }
         }
     }
 
@@ -77,7 +80,8 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, const Display
         for (size_t k = tail; k < clean.size(); ++k) {
             if (!std::isfinite(deg[k][2 * e])) continue;
             if (!xs.empty() && std::isfinite(deg[k - 1][2 * e])) {
-                s2s += std::pow(deg[k][2 * e] - xs.back(), 2) + std::pow(deg[k][2 * e + 1] - ys.back(), 2);
+                s2s += std::pow(deg[k][2 * e] - xs.back(), 2) +
+                       std::pow(deg[k][2 * e + 1] - ys.back(), 2);
                 ++steps;
             }
             xs.push_back(deg[k][2 * e]);

@@ -4,8 +4,8 @@
 // ms around the lost samples, and a corrective saccade follows an undershoot. Samples from
 // those moments, fitted as if the eye had been on the target, bend the whole calibration.
 //
-//   auto d = target_dwell(samples, display, eyes);  // once the target's collection ended
-//   for (size_t i : d.keep) calibration.add_sample(target, samples[i].left, samples[i].right);
+//   auto d = target_dwell(in_degrees, true, true);  // once the target's collection ended
+//   for (size_t i : d.keep) calibration.add_sample(target, raw[i].left, raw[i].right);
 //
 // Pure function; thread-safe.
 #pragma once
@@ -18,8 +18,9 @@
 
 namespace fovea::gaze {
 
-// One raw sample in arrival order; x/y nominally normalized display coordinates (what drivers
-// deliver before a calibration), so distances convert to degrees through the display.
+// One sample in arrival order, x/y in degrees of visual angle: the daemon converts the raw
+// samples it fits (nominally normalized display coordinates) through the display; a validation
+// passes the published degrees.
 struct TargetSample {
     int64_t t_ns = 0;
     EyeSample left, right;
@@ -57,7 +58,7 @@ struct TargetDwell {
 
 // `use_left` / `use_right`: the eyes being calibrated. A sample with one of them lost is kept (the
 // calibration skips that eye); with none tracked it is lost.
-TargetDwell target_dwell(const std::vector<TargetSample>& samples, const DisplayGeometry& display,
-                         bool use_left, bool use_right, const TargetDwellRules& rules = {});
+TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left, bool use_right,
+                         const TargetDwellRules& rules = {});
 
 }  // namespace fovea::gaze
