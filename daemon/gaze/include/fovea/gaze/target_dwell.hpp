@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "fovea/gaze/event_detector.hpp"
 #include "fovea/gaze/sample.hpp"
 
 namespace fovea::gaze {
@@ -27,10 +28,10 @@ struct TargetSample {
 };
 
 struct TargetDwellRules {
-    // Around a lost sample (no used eye tracked), the lid's artefacts (as
-    // DetectorParams::blink_pre_s / blink_post_s, which the event detector labels blink).
-    double lid_before_s = 0.030;
-    double lid_after_s = 0.060;
+    // Around a lost sample (no used eye tracked), the lid's artefacts: the spans the event
+    // detector labels blink.
+    double lid_before_s = DetectorParams{}.blink_pre_s;
+    double lid_after_s = DetectorParams{}.blink_post_s;
     // The final dwell ends, walking back in time, where two consecutive samples lie farther than
     // this from its median: fixational eye movements (drift, microsaccades) stay within ~1 deg
     // (Martinez-Conde et al. 2004), so a larger step is a saccade to the target.
