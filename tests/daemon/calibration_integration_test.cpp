@@ -207,6 +207,18 @@ TEST_F(CalibrateEndToEnd, CalibratesTheDistortedSimulatorOverTheSocket) {
             r["validation"][eye]["precision_sd_deg"].get<double>());
     }
     EXPECT_EQ(r["validation"]["calibrated_records"], r["validation"]["records"]);
+    // Each fresh target on its own: no region of the display is left uncalibrated. A target
+    // the eyes never settled on (a blink over its whole window) has no figure.
+    ASSERT_EQ(r["validation"]["per_target"].size(), 5u);
+    int measured = 0;
+    for (const json& t : r["validation"]["per_target"]) {
+        for (const char* eye : {"left_deg", "right_deg"}) {
+            if (!t[eye].is_number()) continue;
+            ++measured;
+            EXPECT_LT(t[eye].get<double>(), 0.5) << t;
+        }
+    }
+    EXPECT_GE(measured, 2 * 3) << r["validation"]["per_target"];
     EXPECT_TRUE(fs::exists(dir + "/state/calibrations/it.json"));
 
     // The ring after calibration: flagged and accurate at a point no target used.

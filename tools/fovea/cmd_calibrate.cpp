@@ -100,6 +100,7 @@ json validate(int device, double settle_ms, double collect_ms) {
     std::map<std::string, double> offset_sum, offset_n;
     std::map<std::string, uint64_t> excluded;
     uint64_t calibrated = 0, records = 0, lost = 0, blink_edges = 0, not_settled = 0;
+    json per_target = json::array();
     for (const auto& [x, y] : kValidationTargets) {
         // Records are selected by capture time: the chain publishes with a look-ahead delay, so
         // what arrives right after the settle time may still show the previous target.
@@ -135,6 +136,7 @@ json validate(int device, double settle_ms, double collect_ms) {
         blink_edges += dwell.lid;
         not_settled += dwell.unsettled;
         std::map<std::string, std::vector<std::pair<double, double>>> here;
+        std::map<std::string, double> target_sum;
         for (const std::size_t i : dwell.keep) {
             for (auto [name, eye] :
                  {std::pair{"left", &window[i].left}, {"right", &window[i].right}}) {
@@ -145,16 +147,34 @@ json validate(int device, double settle_ms, double collect_ms) {
                     continue;
                 }
                 here[name].emplace_back(eye->x, eye->y);
+                target_sum[name] += offset;
                 offset_sum[name] += offset;
                 offset_n[name] += 1;
             }
         }
+        // Each target's own accuracy: a region the calibration misses shows here, not in the
+        // mean over all of them.
+        json target = {{"x", x},
+                       {"y", y},
+                       {"lost_records", dwell.lost},
+                       {"blink_edge_records", dwell.lid},
+                       {"not_settled_records", dwell.unsettled}};
+        for (const char* name : {"left", "right"}) {
+            const std::size_t n = here[name].size();
+            target[std::string(name) + "_deg"] = n ? json(target_sum[name] / n) : json(nullptr);
+            target[std::string(name) + "_samples"] = n;
+        }
+        per_target.push_back(target);
         for (auto& [name, v] : here) per_eye[name].push_back(std::move(v));
     }
     request({{"cmd", "calibrate.target"}, {"hide", true}});
-    json out = {{"targets", kValidationTargets.size()}, {"records", records},
-                {"calibrated_records", calibrated},     {"lost_records", lost},
-                {"blink_edge_records", blink_edges},    {"not_settled_records", not_settled}};
+    json out = {{"targets", kValidationTargets.size()},
+                {"records", records},
+                {"calibrated_records", calibrated},
+                {"lost_records", lost},
+                {"blink_edge_records", blink_edges},
+                {"not_settled_records", not_settled},
+                {"per_target", per_target}};
     for (const char* name : {"left", "right"}) {
         if (!offset_n[name]) {
             out[name] = nullptr;
@@ -185,6 +205,12 @@ json validate(int device, double settle_ms, double collect_ms) {
                      {"outlier_threshold_deg", kOutlierDeg}};
     }
     return out;
+}
+
+std::string fmt_deg(double deg) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3f°", deg);
+    return buf;
 }
 
 std::string fmt(const json& eye, const char* key) {
@@ -224,6 +250,15 @@ void print_table(const json& result) {
             "left out: %llu lost, %llu at a blink's edges, %llu before the eyes settled\n",
             v["targets"].get<int>(), count("calibrated_records"), count("records"),
             count("lost_records"), count("blink_edge_records"), count("not_settled_records"));
+        std::printf("validation per target, left / right accuracy:");
+        for (const json& t : v["per_target"]) {
+            const auto deg = [](const json& d) {
+                return d.is_number() ? fmt_deg(d.get<double>()) : std::string("-");
+            };
+            std::printf("  (%.2f, %.2f) %s / %s", t["x"].get<double>(), t["y"].get<double>(),
+                        deg(t["left_deg"]).c_str(), deg(t["right_deg"]).c_str());
+        }
+        std::printf("\n");
     }
 }
 
