@@ -8,6 +8,16 @@ namespace fovea::gaze {
 
 namespace {
 
+// The pursuit window's least-squares sums t, x, y, t^2, t x, t y, one sample added.
+void add_moments(std::array<double, 6>& sum, double rt, double rx, double ry) {
+    sum[0] += rt;
+    sum[1] += rx;
+    sum[2] += ry;
+    sum[3] += rt * rt;
+    sum[4] += rt * rx;
+    sum[5] += rt * ry;
+}
+
 constexpr double kRadToDeg = 57.29577951308232;
 
 int samples_for(double seconds, double rate_hz, int minimum) {
@@ -108,13 +118,7 @@ void EventDetector::push(const DetectorInput& in) {
         run_ = {};
     }
     {
-        const double rt = e.t - anchor_t_, rx = e.x - anchor_x_, ry = e.y - anchor_y_;
-        run_[0] += rt;
-        run_[1] += rx;
-        run_[2] += ry;
-        run_[3] += rt * rt;
-        run_[4] += rt * rx;
-        run_[5] += rt * ry;
+        add_moments(run_, e.t - anchor_t_, e.x - anchor_x_, e.y - anchor_y_);
         e.cum = run_;
     }
     buf_.push_back(e);
@@ -706,13 +710,7 @@ std::array<double, 6> EventDetector::direct_sums(int64_t lo, int64_t hi, bool sk
             u_prev = u_cur;
             u_cur = u_next;
         }
-        const double rt = q.t - a.t, rx = q.x - a.x - ox, ry = q.y - a.y - oy;
-        sum[0] += rt;
-        sum[1] += rx;
-        sum[2] += ry;
-        sum[3] += rt * rt;
-        sum[4] += rt * rx;
-        sum[5] += rt * ry;
+        add_moments(sum, q.t - a.t, q.x - a.x - ox, q.y - a.y - oy);
     }
     return sum;
 }
