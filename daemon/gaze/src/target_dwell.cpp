@@ -50,18 +50,8 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
     }
     if (clean.empty()) return out;
 
-    // Positions; NaN for an eye not used or not tracked.
-    std::vector<std::array<double, 4>> deg(clean.size());
-    for (size_t k = 0; k < clean.size(); ++k) {
-        auto& d = deg[k];
-        d.fill(kNaN);
-        for (int e = 0; e < 2; ++e) {
-            if (const EyeSample* s = eye(clean[k], e)) {
-                d[2 * e] = s->x;
-                d[2 * e + 1] = s->y;
-            }
-        }
-    }
+    // Eye e of the k-th clean sample, or null when it is not used or not tracked.
+    const auto at = [&](size_t k, int e) { return eye(clean[k], e); };
 
     // Where the eyes ended up: the median of the final min_dwell_s (at least 3 samples), and
     // the noise there.
@@ -71,21 +61,21 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
                         clean.size() - tail < 3)) {
         --tail;
     }
-    std::array<double, 4> anchor;
+    std::array<double, 4> anchor;  // x, y per eye; NaN for an eye with no sample there
     double radius[2] = {rules.dwell_radius_deg, rules.dwell_radius_deg};
     for (int e = 0; e < 2; ++e) {
         std::vector<double> xs, ys;
         double s2s = 0;
         int steps = 0;
         for (size_t k = tail; k < clean.size(); ++k) {
-            if (!std::isfinite(deg[k][2 * e])) continue;
-            if (!xs.empty() && std::isfinite(deg[k - 1][2 * e])) {
-                s2s += std::pow(deg[k][2 * e] - xs.back(), 2) +
-                       std::pow(deg[k][2 * e + 1] - ys.back(), 2);
+            const EyeSample* s = at(k, e);
+            if (!s) continue;
+            if (k > tail && at(k - 1, e)) {
+                s2s += std::pow(s->x - xs.back(), 2) + std::pow(s->y - ys.back(), 2);
                 ++steps;
             }
-            xs.push_back(deg[k][2 * e]);
-            ys.push_back(deg[k][2 * e + 1]);
+            xs.push_back(s->x);
+            ys.push_back(s->y);
         }
         anchor[2 * e] = xs.empty() ? kNaN : median(xs);
         anchor[2 * e + 1] = ys.empty() ? kNaN : median(ys);
@@ -94,10 +84,9 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
     }
     const auto off = [&](size_t k) {
         for (int e = 0; e < 2; ++e) {
-            if (!std::isfinite(deg[k][2 * e]) || !std::isfinite(anchor[2 * e])) continue;
-            if (std::hypot(deg[k][2 * e] - anchor[2 * e], deg[k][2 * e + 1] - anchor[2 * e + 1]) >
-                radius[e])
-                return true;
+            const EyeSample* s = at(k, e);
+            if (!s || !std::isfinite(anchor[2 * e])) continue;
+            if (std::hypot(s->x - anchor[2 * e], s->y - anchor[2 * e + 1]) > radius[e]) return true;
         }
         return false;
     };
