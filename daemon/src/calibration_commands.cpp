@@ -105,7 +105,18 @@ json eye_json(const gaze::EyeQuality& q) {
               {"precision_rms_deg", q.precision_rms_deg},
               {"precision_sd_deg", q.precision_sd_deg},
               {"samples", q.samples_used}};
-    if (q.fitted) j["rejected"] = q.samples_rejected;
+    if (q.fitted) {
+        j["rejected"] = q.samples_rejected;
+        json dropped = json::array();
+        for (const gaze::DroppedTarget& d : q.dropped_targets) {
+            dropped.push_back({{"x", d.x},
+                               {"y", d.y},
+                               {"residual_deg", d.residual_deg},
+                               {"expected_deg", d.expected_deg},
+                               {"samples", d.samples}});
+        }
+        j["dropped_targets"] = dropped;
+    }
     return j;
 }
 

@@ -240,6 +240,19 @@ void print_table(const json& result) {
         if (result.contains("validation"))
             row("validation (published)", eye, result["validation"][eye]);
     }
+    for (const char* eye : {"left", "right"}) {
+        const json& after = result["after"][eye];
+        if (after.is_null() || !after.contains("dropped_targets")) continue;
+        for (const json& d : after["dropped_targets"]) {
+            std::printf(
+                "%s eye: target (%.2f, %.2f) left out of the fit: the other targets put its %d "
+                "samples %s away (%s expected); the tracker misread the eye there, or it looked "
+                "elsewhere\n",
+                eye, d["x"].get<double>(), d["y"].get<double>(), d["samples"].get<int>(),
+                fmt_deg(d["residual_deg"].get<double>()).c_str(),
+                fmt_deg(d["expected_deg"].get<double>()).c_str());
+        }
+    }
     if (result.contains("validation")) {
         const json& v = result["validation"];
         const auto count = [&](const char* key) {

@@ -1,6 +1,11 @@
 // Per-eye mapping from raw tracker coordinates to normalized display coordinates: a second-order
 // polynomial with cross terms (x' = a0 + a1 x + a2 y + a3 xy + a4 x^2 + a5 y^2, same for y'),
 // least squares over all calibration samples, one outlier-rejection pass, then a refit.
+// Before that, a target that no such mapping through the other targets explains (its raw
+// position is far from where they put it: the tracker misread the pupil there, or the eye was
+// elsewhere) is left out of that eye's fit and reported.
+// Samples whose targets lie within 3 deg of a target's first sample belong to that target: a
+// head-mounted scene camera sees a marker move a little as the head moves.
 // Quality per eye in degrees: accuracy = mean angular offset from the targets; precision = RMS
 // of sample-to-sample distance and SD around each target's mean.
 //
@@ -21,6 +26,16 @@
 
 namespace fovea::gaze {
 
+// A target left out of one eye's fit: how far the fit through the other targets puts its
+// samples (their median), and how far it would put a target there that fitted as well as the
+// others (their residual spread, widened by the target's leverage).
+struct DroppedTarget {
+    double x = kNaN, y = kNaN;  // normalized display coordinates (the target's median)
+    double residual_deg = kNaN;
+    double expected_deg = kNaN;
+    int samples = 0;
+};
+
 struct EyeQuality {
     bool fitted = false;
     double accuracy_deg = kNaN;       // mean angular offset, all kept samples
@@ -28,6 +43,7 @@ struct EyeQuality {
     double precision_sd_deg = kNaN;   // SD of samples around each target's mean
     int samples_used = 0;
     int samples_rejected = 0;  // by the outlier pass
+    std::vector<DroppedTarget> dropped_targets;
 };
 
 struct CalibrationQuality {
@@ -73,6 +89,7 @@ private:
     struct Point {
         double tx, ty;
         EyeSample left, right;
+        size_t target;  // index into targets_
     };
     struct EyeFit {
         bool ok = false;
@@ -85,8 +102,12 @@ private:
     void measure(EyeSide side, const std::vector<size_t>& use, const MapFn& map,
                  EyeQuality& quality) const;
 
+    // Which target a sample at (tx, ty) belongs to; adds one when none is near.
+    size_t target_of(double tx, double ty);
+
     DisplayGeometry display_;
     std::vector<Point> points_;
+    std::vector<std::pair<double, double>> targets_;  // each target's first sample, degrees
     size_t skipped_ = 0;
     EyeFit left_, right_;
     CalibrationQuality quality_;
