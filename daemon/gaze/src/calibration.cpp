@@ -218,7 +218,7 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
     fit.norm[0] = mx;
     fit.norm[1] = my;
     fit.norm[2] = spread > 0 ? 1.0 / spread : 1.0;
-    {
+    {  // Targets the fit through the others cannot explain leave this eye's fit.
         std::map<size_t, std::vector<size_t>> by_target;
         for (size_t i : idx) by_target[points_[i].target].push_back(i);
         std::vector<TargetMedian> medians;
