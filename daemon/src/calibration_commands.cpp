@@ -443,7 +443,16 @@ private:
                 e->y = y;
             }
         }
-        p.dwell = gaze::target_dwell(in_degrees, session_->left, session_->right);
+        // Where the eyes dwelt at the last target that kept samples: the eyes may still be
+        // there when this collection starts.
+        const gaze::TargetSample* previous = nullptr;
+        for (auto it = session_->points.rbegin(); it != session_->points.rend(); ++it) {
+            if (&*it != &p && it->live && !it->dwell.keep.empty()) {
+                previous = &it->dwell.at;
+                break;
+            }
+        }
+        p.dwell = gaze::target_dwell(in_degrees, session_->left, session_->right, {}, previous);
         for (const std::size_t i : p.dwell.keep) add(p, p.collected[i].left, p.collected[i].right);
         if (p.dwell.keep.empty()) {
             log()->warn(

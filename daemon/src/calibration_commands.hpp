@@ -7,7 +7,7 @@
 //       with "samples": those raw samples belong to this target. Without: the daemon shows the
 //       target (simulated trackers look at it), discards settle_ms of raw samples (saccadic
 //       latency), collects collect_ms of them, and the reply says when; poll calibrate.status
-//       until the point is "done". Of the collected samples only the final dwell on the target
+//       until the point is "done". Of the collected samples only the eyes' dwell on the target
 //       is fitted (gaze/target_dwell.hpp): not the eyes on their way, nor a blink's lid
 //       artefacts; the point's status counts "lost", "blink_edges", "not_settled" and
 //       "dwell_ms", and a point without a 100 ms fixation adds no "samples" (redo it).

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fovea/gaze/calibration.hpp"
+#include "fovea/gaze/target_dwell.hpp"
 #include "gauss_jordan.hpp"
 
 namespace fovea::gaze {
@@ -378,6 +379,72 @@ TEST(CalibrationOnPupilCapture, HeldOutTargetsLandCloserThanWithPupilsModel) {
                 targets, median(ours_err), median(pupil_err));
     EXPECT_LT(median(ours_err), median(pupil_err));
     EXPECT_LT(median(ours_err), 1.1);
+}
+
+// The daemon keeps, of what arrives while a target is shown, the eyes' dwell on it
+// (target_dwell). Here each marker's pupil stream, from 0.5 s before its first reference to its
+// last, goes through it as the daemon's live path would: confidence under Pupil's default 0.6 is
+// a lost sample, positions through our fit in degrees, and where the eyes dwelt at the marker
+// before as `previous`.
+TEST(CalibrationOnPupilCapture, TargetDwellKeepsTheFixationOnEachMarker) {
+    const auto rec = recorded();
+    if (!rec) GTEST_SKIP() << "no Pupil Capture calibration under " << kRecording;
+    const DisplayGeometry flat = rec->cam.flat();
+    std::vector<std::pair<double, double>> spans;  // each marker's references, first to last
+    {
+        double last_x = NAN, last_y = NAN;
+        for (const json& r : rec->cal.at("ref_list")) {
+            const double t = r.at("timestamp"), x = r.at("norm_pos")[0], y = r.at("norm_pos")[1];
+            if (spans.empty() || std::hypot(x - last_x, y - last_y) > 0.05)
+                spans.emplace_back(t, t);
+            spans.back().second = t;
+            last_x = x;
+            last_y = y;
+        }
+    }
+    int measured = 0;
+    for (int eye : {0, 1}) {
+        const EyeSide side = side_of(eye);
+        const auto ours = fit_ours(pairs(rec->cal, eye), rec->cam, side);
+        ASSERT_TRUE(ours);
+        std::optional<TargetSample> previous;
+        for (std::size_t k = 0; k < spans.size(); ++k) {
+            const auto [first, last] = spans[k];
+            std::vector<TargetSample> samples;
+            for (const json& p : rec->cal.at("pupil_list")) {
+                const double t = p.at("timestamp");
+                if (p.at("id") != eye || t < first - 0.5 || t > last) continue;
+                TargetSample s;
+                s.t_ns = static_cast<int64_t>(std::llround(t * 1e9));
+                EyeSample& e = side == EyeSide::kLeft ? s.left : s.right;
+                if (p.at("confidence").get<double>() >= 0.6) {
+                    const EyeSample m = ours->apply(
+                        side, EyeSample{p.at("norm_pos")[0], p.at("norm_pos")[1], 0.0, true});
+                    flat.to_degrees(m.x, m.y, e.x, e.y);
+                    e.valid = true;
+                }
+                samples.push_back(s);
+            }
+            std::sort(samples.begin(), samples.end(),
+                      [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+            const TargetDwell d =
+                target_dwell(samples, side == EyeSide::kLeft, side == EyeSide::kRight, {},
+                             previous ? &*previous : nullptr);
+            if (!d.keep.empty()) previous = d.at;
+            const double from = d.keep.empty() ? NAN : samples[d.keep.front()].t_ns * 1e-9 - first;
+            const double to = d.keep.empty() ? NAN : samples[d.keep.back()].t_ns * 1e-9 - first;
+            std::printf(
+                "eye%d marker %zu: %3zu samples, %3zu lost, %2zu lid, %3zu unsettled; kept "
+                "%+.2f..%+.2f s of the references' %.2f s\n",
+                eye, k, samples.size(), d.lost, d.lid, d.unsettled, from, to, last - first);
+            if (d.lost * 2 > samples.size()) continue;  // the tracker lost this eye there
+            ++measured;
+            // Most of the marker's time is kept, and the kept dwell is where the references are.
+            EXPECT_GT(d.dwell_s, 0.5 * (last - first)) << "eye" << eye << " marker " << k;
+            EXPECT_LT(from, 0.5 * (last - first)) << "eye" << eye << " marker " << k;
+        }
+    }
+    EXPECT_GE(measured, 14);
 }
 
 }  // namespace

@@ -132,5 +132,69 @@ TEST(TargetDwell, NothingOrOnlyLostSamplesKeepNothing) {
     EXPECT_EQ(d.lost, 100u);
 }
 
+TEST(TargetDwell, KnowingThePreviousTargetTheLongestDwellWinsOverAnEarlyDeparture) {
+    // From the previous target (-8, 0) to this one at 100-150 ms; 830-850 ms the eyes leave for
+    // (6, 0) (a glance, or anticipating the next target) and stay 150 ms.
+    const auto samples = record(1000, [](int t, double& x, double&) {
+        x = t < 100   ? -8.0
+            : t < 150 ? -8.0 + 8.0 * (t - 100) / 50.0
+            : t < 830 ? 0.0
+            : t < 850 ? 6.0 * (t - 830) / 20.0
+                      : 6.0;
+        return true;
+    });
+    TargetSample previous;
+    previous.left = previous.right = EyeSample{-8.0, 0.0, 0.0, true};
+    const TargetDwell d = target_dwell(samples, true, true, {}, &previous);
+    ASSERT_FALSE(d.keep.empty());
+    int leaving = 0;  // the departure's first ms, still within the dwell's radius
+    for (size_t i : d.keep) {
+        EXPECT_GE(samples[i].t_ns, 181 * kMs) << "within 1.5 deg at 141 ms, settled 40 ms later";
+        if (samples[i].t_ns >= 830 * kMs) {
+            ++leaving;
+            EXPECT_LT(offset_deg(samples[i], 0, 0), 1.5) << i;
+        } else {
+            EXPECT_LT(offset_deg(samples[i], 0, 0), 0.2) << i;
+        }
+    }
+    EXPECT_LE(leaving, 5);
+    EXPECT_GE(d.keep.size(), 650u);
+    EXPECT_NEAR(d.dwell_s, 0.834 - 0.181, 0.003);
+    EXPECT_TRUE(d.at.left.valid);
+    EXPECT_NEAR(d.at.left.x, 0.0, 0.05);
+    // Not knowing where the eyes came from, the final dwell: the departure.
+    const TargetDwell blind = target_dwell(samples, true, true);
+    ASSERT_FALSE(blind.keep.empty());
+    EXPECT_GE(samples[blind.keep.front()].t_ns, 850 * kMs);
+    EXPECT_NEAR(blind.at.left.x, 6.0, 0.05);
+}
+
+TEST(TargetDwell, TheEyesStillAtThePreviousTargetAreNotTheDwellThoughLonger) {
+    // A late arrival: 250 ms still at the previous target, 180 ms at this one.
+    const auto samples = record(450, [](int t, double& x, double&) {
+        x = t < 250 ? -8.0 : t < 270 ? -8.0 + 8.0 * (t - 250) / 20.0 : 0.0;
+        return true;
+    });
+    TargetSample previous;
+    previous.left = previous.right = EyeSample{-8.3, 0.2, 0.0, true};
+    const TargetDwell d = target_dwell(samples, true, true, {}, &previous);
+    ASSERT_FALSE(d.keep.empty());
+    EXPECT_GE(samples[d.keep.front()].t_ns, 300 * kMs);
+    EXPECT_NEAR(d.at.left.x, 0.0, 0.05);
+}
+
+TEST(TargetDwell, WhenEveryDwellIsAtThePreviousTargetTheFinalOneIsKept) {
+    // The same target shown twice: the eyes never move.
+    const auto samples = record(300, [](int, double& x, double&) {
+        x = 2.0;
+        return true;
+    });
+    TargetSample previous;
+    previous.left = previous.right = EyeSample{2.0, 0.0, 0.0, true};
+    const TargetDwell d = target_dwell(samples, true, true, {}, &previous);
+    EXPECT_EQ(d.keep.size(), samples.size());
+    EXPECT_EQ(d.keep, target_dwell(samples, true, true).keep);
+}
+
 }  // namespace
 }  // namespace fovea::gaze

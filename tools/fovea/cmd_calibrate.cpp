@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -86,7 +87,7 @@ json wait_for_point(std::size_t index) {
 // Accuracy and precision (degrees) per eye of the published gaze while fresh targets are shown:
 // the offset of every valid sample from its target, and per target the RMS sample-to-sample
 // distance and the SD around the mean (the published gaze is filtered, so precision is better
-// than the raw figures). Only the final dwell on each target counts, as in the fit
+// than the raw figures). Only the eyes' dwell on each target counts, as in the fit
 // (gaze/target_dwell.hpp: not the eyes on their way, nor a blink's lid edges). As in common
 // eye-tracker practice (Pupil's accuracy visualiser, for one), samples more than kOutlierDeg
 // from the target are excluded and counted too: the eye was not on the target then, which says
@@ -101,6 +102,7 @@ json validate(int device, double settle_ms, double collect_ms) {
     std::map<std::string, uint64_t> excluded;
     uint64_t calibrated = 0, records = 0, lost = 0, blink_edges = 0, not_settled = 0;
     json per_target = json::array();
+    std::optional<gaze::TargetSample> previous;  // where the eyes dwelt at the last target
     for (const auto& [x, y] : kValidationTargets) {
         // Records are selected by capture time: the chain publishes with a look-ahead delay, so
         // what arrives right after the settle time may still show the previous target.
@@ -131,7 +133,9 @@ json validate(int device, double settle_ms, double collect_ms) {
                 window.push_back(t);
             }
         }
-        const gaze::TargetDwell dwell = gaze::target_dwell(window, true, true);
+        const gaze::TargetDwell dwell =
+            gaze::target_dwell(window, true, true, {}, previous ? &*previous : nullptr);
+        if (!dwell.keep.empty()) previous = dwell.at;
         lost += dwell.lost;
         blink_edges += dwell.lid;
         not_settled += dwell.unsettled;

@@ -8,6 +8,8 @@ namespace fovea::gaze {
 
 namespace {
 
+constexpr int kMaxDwells = 32;
+
 bool tracked(const EyeSample& e) {
     return e.valid && std::isfinite(e.x) && std::isfinite(e.y) && std::fabs(e.x) < 1e6 &&
            std::fabs(e.y) < 1e6;
@@ -21,7 +23,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left, bool use_right,
-                         const TargetDwellRules& rules) {
+                         const TargetDwellRules& rules, const TargetSample* previous) {
     TargetDwell out;
     const auto eye = [&](size_t i, int e) -> const EyeSample* {
         const EyeSample& s = e == 0 ? samples[i].left : samples[i].right;
@@ -53,57 +55,119 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
     // Eye e of the k-th clean sample, or null when it is not used or not tracked.
     const auto at = [&](size_t k, int e) { return eye(clean[k], e); };
 
-    // Where the eyes ended up: the median of the final min_dwell_s (at least 3 samples), and
-    // the noise there.
-    const int64_t end_t = samples[clean.back()].t_ns;
-    size_t tail = clean.size() - 1;
-    while (tail > 0 && (end_t - samples[clean[tail - 1]].t_ns <= ns(rules.min_dwell_s) ||
-                        clean.size() - tail < 3)) {
-        --tail;
-    }
-    std::array<double, 4> anchor;  // x, y per eye; NaN for an eye with no sample there
-    double radius[2] = {rules.dwell_radius_deg, rules.dwell_radius_deg};
-    for (int e = 0; e < 2; ++e) {
-        std::vector<double> xs, ys;
-        double s2s = 0;
-        int steps = 0;
-        for (size_t k = tail; k < clean.size(); ++k) {
-            const EyeSample* s = at(k, e);
-            if (!s) continue;
-            if (k > tail && at(k - 1, e)) {
-                s2s += std::pow(s->x - xs.back(), 2) + std::pow(s->y - ys.back(), 2);
-                ++steps;
-            }
-            xs.push_back(s->x);
-            ys.push_back(s->y);
+    // The dwell that ends at clean sample `last`: where the eyes were over its final min_dwell_s
+    // (at least 3 samples) and the noise there, then back to where the gaze left that place for
+    // two samples in a row (one is a spike).
+    struct Dwell {
+        size_t start = 0, first = 0, last = 0;  // start: where it was entered; first: settled
+        std::array<double, 4> anchor{};         // x, y per eye; NaN for an eye with no sample
+        double radius[2] = {0, 0};
+        double seconds = 0;
+    };
+    const auto dwell_ending_at = [&](size_t last) {
+        Dwell d;
+        d.last = last;
+        const int64_t end_t = samples[clean[last]].t_ns;
+        size_t tail = last;
+        while (tail > 0 && (end_t - samples[clean[tail - 1]].t_ns <= ns(rules.min_dwell_s) ||
+                            last + 1 - tail < 3)) {
+            --tail;
         }
-        anchor[2 * e] = xs.empty() ? kNaN : median(xs);
-        anchor[2 * e + 1] = ys.empty() ? kNaN : median(ys);
-        if (steps > 0)
-            radius[e] = std::max(radius[e], rules.noise_radius_factor * std::sqrt(s2s / steps / 2));
-    }
-    const auto off = [&](size_t k) {
         for (int e = 0; e < 2; ++e) {
-            const EyeSample* s = at(k, e);
-            if (!s || !std::isfinite(anchor[2 * e])) continue;
-            if (std::hypot(s->x - anchor[2 * e], s->y - anchor[2 * e + 1]) > radius[e]) return true;
+            std::vector<double> xs, ys;
+            double s2s = 0;
+            int steps = 0;
+            for (size_t k = tail; k <= last; ++k) {
+                const EyeSample* s = at(k, e);
+                if (!s) continue;
+                if (k > tail && at(k - 1, e)) {
+                    s2s += std::pow(s->x - xs.back(), 2) + std::pow(s->y - ys.back(), 2);
+                    ++steps;
+                }
+                xs.push_back(s->x);
+                ys.push_back(s->y);
+            }
+            d.anchor[2 * e] = xs.empty() ? kNaN : median(xs);
+            d.anchor[2 * e + 1] = ys.empty() ? kNaN : median(ys);
+            d.radius[e] = rules.dwell_radius_deg;
+            if (steps > 0) {
+                d.radius[e] =
+                    std::max(d.radius[e], rules.noise_radius_factor * std::sqrt(s2s / steps / 2));
+            }
         }
-        return false;
+        const auto off = [&](size_t k) {
+            for (int e = 0; e < 2; ++e) {
+                const EyeSample* s = at(k, e);
+                if (!s || !std::isfinite(d.anchor[2 * e])) continue;
+                if (std::hypot(s->x - d.anchor[2 * e], s->y - d.anchor[2 * e + 1]) > d.radius[e])
+                    return true;
+            }
+            return false;
+        };
+        size_t first = last;
+        while (first > 0 && !(off(first - 1) && (first < 2 || off(first - 2)))) --first;
+        d.start = first;
+        if (first > 0) {
+            const int64_t settled_t = samples[clean[first]].t_ns + ns(rules.settle_after_saccade_s);
+            while (first < last && samples[clean[first]].t_ns < settled_t) ++first;
+        }
+        d.first = first;
+        d.seconds = (end_t - samples[clean[first]].t_ns) * 1e-9;
+        for (size_t k = first; k <= last; ++k) {
+            if (!off(k)) out.keep.push_back(clean[k]);
+        }
+        return d;
+    };
+    // Where the eyes were at the previous target, if known and within this dwell's radius for
+    // every eye both have.
+    const auto at_previous = [&](const Dwell& d) {
+        if (!previous) return false;
+        bool compared = false;
+        for (int e = 0; e < 2; ++e) {
+            const EyeSample& p = e == 0 ? previous->left : previous->right;
+            if (!(e == 0 ? use_left : use_right) || !tracked(p) || !std::isfinite(d.anchor[2 * e]))
+                continue;
+            if (std::hypot(p.x - d.anchor[2 * e], p.y - d.anchor[2 * e + 1]) > d.radius[e])
+                return false;
+            compared = true;
+        }
+        return compared;
     };
 
-    // Walk back to where the gaze left the dwell for two samples in a row (one is a spike).
-    size_t first = clean.size() - 1;
-    while (first > 0 && !(off(first - 1) && (first < 2 || off(first - 2)))) --first;
-    if (first > 0) {
-        const int64_t settled_t = samples[clean[first]].t_ns + ns(rules.settle_after_saccade_s);
-        while (first + 1 < clean.size() && samples[clean[first]].t_ns < settled_t) ++first;
+    // The final dwell; knowing where the eyes came from, the longest dwell not there (the eyes
+    // may leave before the collection ends: a glance, or anticipating the next target).
+    Dwell chosen = dwell_ending_at(clean.size() - 1);
+    std::vector<size_t> chosen_keep = std::move(out.keep);
+    if (previous) {
+        bool found = !at_previous(chosen) && chosen.seconds >= rules.min_dwell_s;
+        // Bounded: a gaze that never rests would otherwise cost a walk per sample.
+        int dwells = 1;
+        for (Dwell d = chosen; d.start > 0 && dwells < kMaxDwells; ++dwells) {
+            out.keep.clear();
+            d = dwell_ending_at(d.start - 1);
+            if (at_previous(d) || d.seconds < rules.min_dwell_s) continue;
+            if (!found || d.seconds > chosen.seconds) {
+                chosen = d;
+                chosen_keep = std::move(out.keep);
+                found = true;
+            }
+        }
+        if (!found) {  // nothing but the previous target: the final dwell, as without it
+            out.keep.clear();
+            chosen = dwell_ending_at(clean.size() - 1);
+            chosen_keep = std::move(out.keep);
+        }
     }
-    for (size_t k = first; k < clean.size(); ++k) {
-        if (!off(k)) out.keep.push_back(clean[k]);
-    }
-    out.dwell_s = (end_t - samples[clean[first]].t_ns) * 1e-9;
+    out.keep = std::move(chosen_keep);
+    out.dwell_s = chosen.seconds;
     if (out.dwell_s < rules.min_dwell_s) out.keep.clear();
     out.unsettled = clean.size() - out.keep.size();
+    for (int e = 0; e < 2; ++e) {
+        EyeSample& a = e == 0 ? out.at.left : out.at.right;
+        a.x = chosen.anchor[2 * e];
+        a.y = chosen.anchor[2 * e + 1];
+        a.valid = !out.keep.empty() && std::isfinite(a.x) && std::isfinite(a.y);
+    }
     return out;
 }
 
