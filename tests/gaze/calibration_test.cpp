@@ -17,6 +17,16 @@ void distort(double x, double y, double& rx, double& ry, double shift) {
     ry = 100.0 + 20.0 * x + 600.0 * y - 15.0 * x * y + 35.0 * y * y;
 }
 
+// The eye's raw position when looking at (x, y) maps back to it (the right eye is shifted).
+void expect_maps_back(const Calibration& c, EyeSide side, double x, double y, double tolerance) {
+    EyeSample raw;
+    distort(x, y, raw.x, raw.y, side == EyeSide::kRight ? 5.0 : 0.0);
+    raw.valid = true;
+    const EyeSample m = c.apply(side, raw);
+    EXPECT_NEAR(m.x, x, tolerance);
+    EXPECT_NEAR(m.y, y, tolerance);
+}
+
 Calibration calibrated(bool with_outliers, Result<CalibrationQuality>* quality) {
     Calibration c;
     c.begin();
@@ -58,12 +68,7 @@ TEST(Calibration, RecoversKnownDistortionPerEye) {
     EXPECT_GT(q->left.precision_rms_deg, 0.0);
     EXPECT_GT(q->left.precision_sd_deg, 0.0);
     // An untrained point maps close to its truth.
-    EyeSample raw;
-    distort(0.3, 0.7, raw.x, raw.y, 5.0);
-    raw.valid = true;
-    const EyeSample m = c.apply(EyeSide::kRight, raw);
-    EXPECT_NEAR(m.x, 0.3, 2e-3);
-    EXPECT_NEAR(m.y, 0.7, 2e-3);
+    expect_maps_back(c, EyeSide::kRight, 0.3, 0.7, 2e-3);
 }
 
 TEST(Calibration, OutlierPassRejectsGlancesAndRefits) {
@@ -112,12 +117,7 @@ TEST(Calibration, ATargetTheEyeWasNotOnIsLeftOutOfThatEyesFitAndReported) {
     EXPECT_LT(q.left.accuracy_deg, 0.05);
     EXPECT_TRUE(q.right.dropped_targets.empty());
     // The fit still maps the left-out target's true raw position onto it.
-    EyeSample raw;
-    distort(0.9, 0.5, raw.x, raw.y, 0.0);
-    raw.valid = true;
-    const EyeSample m = c.apply(EyeSide::kLeft, raw);
-    EXPECT_NEAR(m.x, 0.9, 5e-3);
-    EXPECT_NEAR(m.y, 0.5, 5e-3);
+    expect_maps_back(c, EyeSide::kLeft, 0.9, 0.5, 5e-3);
 }
 
 TEST(Calibration, AMissUnderThreeDegreesStaysInTheFit) {

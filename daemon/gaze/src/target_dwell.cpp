@@ -59,14 +59,14 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
     // (at least 3 samples) and the noise there, then back to where the gaze left that place for
     // two samples in a row (one is a spike).
     struct Dwell {
-        size_t start = 0, first = 0, last = 0;  // start: where it was entered; first: settled
-        std::array<double, 4> anchor{};         // x, y per eye; NaN for an eye with no sample
+        size_t start = 0;                // the clean sample where the gaze entered it
+        std::array<double, 4> anchor{};  // x, y per eye; NaN for an eye with no sample
         double radius[2] = {0, 0};
-        double seconds = 0;
+        double seconds = 0;        // from the first sample after settling
+        std::vector<size_t> keep;  // its samples after settling, within the radius
     };
     const auto dwell_ending_at = [&](size_t last) {
         Dwell d;
-        d.last = last;
         const int64_t end_t = samples[clean[last]].t_ns;
         size_t tail = last;
         while (tail > 0 && (end_t - samples[clean[tail - 1]].t_ns <= ns(rules.min_dwell_s) ||
@@ -111,10 +111,9 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
             const int64_t settled_t = samples[clean[first]].t_ns + ns(rules.settle_after_saccade_s);
             while (first < last && samples[clean[first]].t_ns < settled_t) ++first;
         }
-        d.first = first;
         d.seconds = (end_t - samples[clean[first]].t_ns) * 1e-9;
         for (size_t k = first; k <= last; ++k) {
-            if (!off(k)) out.keep.push_back(clean[k]);
+            if (!off(k)) d.keep.push_back(clean[k]);
         }
         return d;
     };
@@ -136,36 +135,32 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
 
     // The final dwell; knowing where the eyes came from, the longest dwell not there (the eyes
     // may leave before the collection ends: a glance, or anticipating the next target).
-    Dwell chosen = dwell_ending_at(clean.size() - 1);
-    std::vector<size_t> chosen_keep = std::move(out.keep);
+    const Dwell final_dwell = dwell_ending_at(clean.size() - 1);
+    const Dwell* chosen = &final_dwell;
+    Dwell longest;
     if (previous) {
-        bool found = !at_previous(chosen) && chosen.seconds >= rules.min_dwell_s;
+        bool found = false;
         // Bounded: a gaze that never rests would otherwise cost a walk per sample.
-        int dwells = 1;
-        for (Dwell d = chosen; d.start > 0 && dwells < kMaxDwells; ++dwells) {
-            out.keep.clear();
-            d = dwell_ending_at(d.start - 1);
-            if (at_previous(d) || d.seconds < rules.min_dwell_s) continue;
-            if (!found || d.seconds > chosen.seconds) {
-                chosen = d;
-                chosen_keep = std::move(out.keep);
+        Dwell d = final_dwell;
+        for (int dwells = 0; dwells < kMaxDwells; ++dwells) {
+            if (!at_previous(d) && d.seconds >= rules.min_dwell_s &&
+                (!found || d.seconds > longest.seconds)) {
+                longest = d;
                 found = true;
             }
+            if (d.start == 0) break;
+            d = dwell_ending_at(d.start - 1);
         }
-        if (!found) {  // nothing but the previous target: the final dwell, as without it
-            out.keep.clear();
-            chosen = dwell_ending_at(clean.size() - 1);
-            chosen_keep = std::move(out.keep);
-        }
+        if (found) chosen = &longest;  // else nothing but the previous target: the final dwell
     }
-    out.keep = std::move(chosen_keep);
-    out.dwell_s = chosen.seconds;
+    out.keep = chosen->keep;
+    out.dwell_s = chosen->seconds;
     if (out.dwell_s < rules.min_dwell_s) out.keep.clear();
     out.unsettled = clean.size() - out.keep.size();
     for (int e = 0; e < 2; ++e) {
         EyeSample& a = e == 0 ? out.at.left : out.at.right;
-        a.x = chosen.anchor[2 * e];
-        a.y = chosen.anchor[2 * e + 1];
+        a.x = chosen->anchor[2 * e];
+        a.y = chosen->anchor[2 * e + 1];
         a.valid = !out.keep.empty() && std::isfinite(a.x) && std::isfinite(a.y);
     }
     return out;
