@@ -443,14 +443,14 @@ private:
                 e->y = y;
             }
         }
-        // Where the eyes dwelt at the last target that kept samples: the eyes may still be
-        // there when this collection starts.
+        // Where the eyes dwelt at the point before, if it kept samples: they may still be there
+        // when this collection starts. (After a point that kept none, where they were is not
+        // known.)
         const gaze::TargetSample* previous = nullptr;
-        for (auto it = session_->points.rbegin(); it != session_->points.rend(); ++it) {
-            if (&*it != &p && it->live && !it->dwell.keep.empty()) {
-                previous = &it->dwell.at;
-                break;
-            }
+        const auto& points = session_->points;
+        if (points.size() >= 2 && &points.back() == &p) {
+            const Point& before = points[points.size() - 2];
+            if (before.live && !before.dwell.keep.empty()) previous = &before.dwell.at;
         }
         p.dwell = gaze::target_dwell(in_degrees, session_->left, session_->right, {}, previous);
         for (const std::size_t i : p.dwell.keep) add(p, p.collected[i].left, p.collected[i].right);

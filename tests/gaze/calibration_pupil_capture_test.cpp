@@ -430,6 +430,7 @@ TEST(CalibrationOnPupilCapture, TargetDwellKeepsTheFixationOnEachMarker) {
             const TargetDwell d =
                 target_dwell(samples, side == EyeSide::kLeft, side == EyeSide::kRight, {},
                              previous ? &*previous : nullptr);
+            previous.reset();  // known only from a kept dwell, as in the daemon
             if (!d.keep.empty()) previous = d.at;
             const double from = d.keep.empty() ? NAN : samples[d.keep.front()].t_ns * 1e-9 - first;
             const double to = d.keep.empty() ? NAN : samples[d.keep.back()].t_ns * 1e-9 - first;

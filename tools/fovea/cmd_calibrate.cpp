@@ -135,6 +135,7 @@ json validate(int device, double settle_ms, double collect_ms) {
         }
         const gaze::TargetDwell dwell =
             gaze::target_dwell(window, true, true, {}, previous ? &*previous : nullptr);
+        previous.reset();  // where the eyes went is known only from a kept dwell
         if (!dwell.keep.empty()) previous = dwell.at;
         lost += dwell.lost;
         blink_edges += dwell.lid;
