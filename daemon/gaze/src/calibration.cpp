@@ -12,6 +12,7 @@
 
 #include "fovea/json_integer.hpp"
 #include "gauss_jordan.hpp"
+#include "median.hpp"
 
 namespace fovea::gaze {
 
@@ -48,27 +49,16 @@ double eval(const Calibration::Coefficients& c, const double norm[3], double x, 
     return s;
 }
 
-// Solve the normal equations for both coordinates; false when (near) singular.
-bool solve(double a[kN][kN], double b[2][kN], Calibration::Coefficients& cx,
-           Calibration::Coefficients& cy) {
-    double m[kN][kN + 2];
-    for (int i = 0; i < kN; ++i) {
-        for (int j = 0; j < kN; ++j) m[i][j] = a[i][j];
-        m[i][kN] = b[0][i];
-        m[i][kN + 1] = b[1][i];
+// Adds one sample's terms `v` and its target to the normal equations of both coordinates,
+// [A | b_x | b_y | ...], the columns past kN + 2 left alone.
+template <int Columns>
+void add_to_normal_equations(double (&m)[kN][Columns], const double v[kN], double tx, double ty) {
+    static_assert(Columns >= kN + 2);
+    for (int r = 0; r < kN; ++r) {
+        for (int c = 0; c < kN; ++c) m[r][c] += v[r] * v[c];
+        m[r][kN] += v[r] * tx;
+        m[r][kN + 1] += v[r] * ty;
     }
-    if (!detail::gauss_jordan<kN, 2>(m)) return false;
-    for (int i = 0; i < kN; ++i) {
-        cx[static_cast<size_t>(i)] = m[i][kN];
-        cy[static_cast<size_t>(i)] = m[i][kN + 1];
-    }
-    return true;
-}
-
-double median_of(std::vector<double> v) {
-    const auto mid = v.begin() + static_cast<long>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
 }
 
 // One target's samples for one eye, summarized by medians (a glance does not move them).
@@ -95,11 +85,7 @@ bool deleted_residual(const std::vector<TargetMedian>& t, size_t at, const Displ
     for (size_t i = 0; i < t.size(); ++i) {
         if (i == at) continue;
         terms(t[i].rx, t[i].ry, v);
-        for (int r = 0; r < kN; ++r) {
-            for (int c = 0; c < kN; ++c) m[r][c] += v[r] * v[c];
-            m[r][kN] += v[r] * t[i].tx;
-            m[r][kN + 1] += v[r] * t[i].ty;
-        }
+        add_to_normal_equations(m, v, t[i].tx, t[i].ty);
     }
     double at_terms[kN];
     terms(t[at].rx, t[at].ry, at_terms);
@@ -230,8 +216,8 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
                 tx.push_back(points_[i].tx);
                 ty.push_back(points_[i].ty);
             }
-            medians.push_back({median_of(rx), median_of(ry), median_of(tx), median_of(ty), target,
-                               static_cast<int>(members.size())});
+            medians.push_back({detail::median(rx), detail::median(ry), detail::median(tx),
+                               detail::median(ty), target, static_cast<int>(members.size())});
         }
         q.dropped_targets = drop_inconsistent_targets(medians, display_);
         if (!q.dropped_targets.empty()) {
@@ -244,18 +230,17 @@ Calibration::EyeFit Calibration::fit_eye(EyeSide side, EyeQuality& q) const {
         f.norm[0] = fit.norm[0];
         f.norm[1] = fit.norm[1];
         f.norm[2] = fit.norm[2];
-        double a[kN][kN] = {};
-        double b[2][kN] = {};
+        double m[kN][kN + 2] = {};
         for (size_t i : use) {
             double t[kN];
             terms((raw(i).x - f.norm[0]) * f.norm[2], (raw(i).y - f.norm[1]) * f.norm[2], t);
-            for (int r = 0; r < kN; ++r) {
-                for (int c = 0; c < kN; ++c) a[r][c] += t[r] * t[c];
-                b[0][r] += t[r] * points_[i].tx;
-                b[1][r] += t[r] * points_[i].ty;
-            }
+            add_to_normal_equations(m, t, points_[i].tx, points_[i].ty);
         }
-        f.ok = use.size() >= static_cast<size_t>(kN) && solve(a, b, f.cx, f.cy);
+        f.ok = use.size() >= static_cast<size_t>(kN) && detail::gauss_jordan<kN, 2>(m);
+        for (int r = 0; f.ok && r < kN; ++r) {
+            f.cx[static_cast<size_t>(r)] = m[r][kN];
+            f.cy[static_cast<size_t>(r)] = m[r][kN + 1];
+        }
     };
     auto error_deg = [&](size_t i, const EyeFit& f) {
         double ax, ay, bx, by;

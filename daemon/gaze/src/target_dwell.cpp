@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "median.hpp"
+
 namespace fovea::gaze {
 
 namespace {
@@ -13,11 +15,6 @@ constexpr int kMaxDwells = 32;
 bool tracked(const EyeSample& e) {
     return e.valid && std::isfinite(e.x) && std::isfinite(e.y) && std::fabs(e.x) < 1e6 &&
            std::fabs(e.y) < 1e6;
-}
-
-double median(std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace
@@ -87,8 +84,8 @@ TargetDwell target_dwell(const std::vector<TargetSample>& samples, bool use_left
                 xs.push_back(s->x);
                 ys.push_back(s->y);
             }
-            d.anchor[2 * e] = xs.empty() ? kNaN : median(xs);
-            d.anchor[2 * e + 1] = ys.empty() ? kNaN : median(ys);
+            d.anchor[2 * e] = xs.empty() ? kNaN : detail::median(xs);
+            d.anchor[2 * e + 1] = ys.empty() ? kNaN : detail::median(ys);
             d.radius[e] = rules.dwell_radius_deg;
             if (steps > 0) {
                 d.radius[e] =
