@@ -107,15 +107,16 @@ json eye_json(const gaze::EyeQuality& q) {
               {"samples", q.samples_used}};
     if (q.fitted) {
         j["rejected"] = q.samples_rejected;
-        json dropped = json::array();
-        for (const gaze::DroppedTarget& d : q.dropped_targets) {
-            dropped.push_back({{"x", d.x},
-                               {"y", d.y},
-                               {"residual_deg", d.residual_deg},
-                               {"expected_deg", d.expected_deg},
-                               {"samples", d.samples}});
+        json checks = json::array();
+        for (const gaze::TargetCheck& c : q.target_checks) {
+            checks.push_back({{"x", c.x},
+                              {"y", c.y},
+                              {"residual_deg", c.residual_deg},
+                              {"expected_deg", c.expected_deg},
+                              {"samples", c.samples},
+                              {"left_out", c.left_out}});
         }
-        j["dropped_targets"] = dropped;
+        j["target_checks"] = checks;
     }
     return j;
 }

@@ -14,8 +14,9 @@
 //   calibrate.finish {"store": true, "apply": true}                                    (admin)
 //       fit; reply per eye accuracy (mean angular offset) and precision (RMS sample-to-sample,
 //       SD) in degrees "before" (raw as the chain shows it uncalibrated) and "after" the fit,
-//       "after" with the targets left out of that eye's fit ("dropped_targets": x, y,
-//       residual_deg, expected_deg, samples; gaze/calibration.hpp);
+//       "after" with each target checked against the fit through the others
+//       ("target_checks": x, y, residual_deg, expected_deg, samples, left_out: left out of
+//       that eye's fit; gaze/calibration.hpp);
 //       store <dir>/<user>.json and apply it to the device's chain (FOVEA_FLAG_CALIBRATED)
 //   calibrate.cancel                                                                   (admin)
 //   calibrate.apply  {"user": "ana"}  apply a stored calibration                        (admin)

@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,14 @@ namespace {
 void distort(double x, double y, double& rx, double& ry, double shift) {
     rx = 200.0 + 800.0 * x + 30.0 * y + 40.0 * x * y + 25.0 * x * x + shift;
     ry = 100.0 + 20.0 * x + 600.0 * y - 15.0 * x * y + 35.0 * y * y;
+}
+
+// The targets left out of an eye's fit.
+std::vector<TargetCheck> left_out(const EyeQuality& q) {
+    std::vector<TargetCheck> out;
+    for (const TargetCheck& c : q.target_checks)
+        if (c.left_out) out.push_back(c);
+    return out;
 }
 
 // The eye's raw position when looking at (x, y) maps back to it (the right eye is shifted).
@@ -63,8 +72,14 @@ TEST(Calibration, RecoversKnownDistortionPerEye) {
     EXPECT_EQ(q->targets, 9);
     EXPECT_LT(q->left.accuracy_deg, 0.05);
     EXPECT_LT(q->right.accuracy_deg, 0.05);
-    EXPECT_TRUE(q->left.dropped_targets.empty());
-    EXPECT_TRUE(q->right.dropped_targets.empty());
+    EXPECT_TRUE(left_out(q->left).empty());
+    EXPECT_TRUE(left_out(q->right).empty());
+    EXPECT_EQ(q->left.target_checks.size(), 9u) << "every target checked";
+    double worst = 0;  // a clean fit's largest studentized deleted residual
+    for (const TargetCheck& t : q->left.target_checks)
+        worst = std::max(worst, t.residual_deg / t.expected_deg);
+    std::printf("clean 9-point fit: targets miss by at most %.1f times the expected\n", worst);
+    EXPECT_LT(worst, 6.0);
     EXPECT_GT(q->left.precision_rms_deg, 0.0);
     EXPECT_GT(q->left.precision_sd_deg, 0.0);
     // An untrained point maps close to its truth.
@@ -106,8 +121,8 @@ CalibrationQuality with_one_missed_target(double miss, Calibration& c) {
 TEST(Calibration, ATargetTheEyeWasNotOnIsLeftOutOfThatEyesFitAndReported) {
     Calibration c;
     const CalibrationQuality q = with_one_missed_target(0.08, c);  // ~3.8 deg on a 24" at 60 cm
-    ASSERT_EQ(q.left.dropped_targets.size(), 1u);
-    const DroppedTarget& d = q.left.dropped_targets[0];
+    ASSERT_EQ(left_out(q.left).size(), 1u);
+    const TargetCheck d = left_out(q.left)[0];
     EXPECT_DOUBLE_EQ(d.x, 0.9);
     EXPECT_DOUBLE_EQ(d.y, 0.5);
     EXPECT_GT(d.residual_deg, 3.0);
@@ -115,7 +130,8 @@ TEST(Calibration, ATargetTheEyeWasNotOnIsLeftOutOfThatEyesFitAndReported) {
     EXPECT_EQ(d.samples, 30);
     EXPECT_EQ(q.left.samples_used, 8 * 30);
     EXPECT_LT(q.left.accuracy_deg, 0.05);
-    EXPECT_TRUE(q.right.dropped_targets.empty());
+    EXPECT_TRUE(left_out(q.right).empty());
+    EXPECT_EQ(q.left.target_checks.size(), 9u) << "the one left out and the 8 still in";
     // The fit still maps the left-out target's true raw position onto it.
     expect_maps_back(c, EyeSide::kLeft, 0.9, 0.5, 5e-3);
 }
@@ -123,7 +139,7 @@ TEST(Calibration, ATargetTheEyeWasNotOnIsLeftOutOfThatEyesFitAndReported) {
 TEST(Calibration, AMissUnderThreeDegreesStaysInTheFit) {
     Calibration c;
     const CalibrationQuality q = with_one_missed_target(0.03, c);  // ~1.4 deg
-    EXPECT_TRUE(q.left.dropped_targets.empty());
+    EXPECT_TRUE(left_out(q.left).empty());
     EXPECT_EQ(q.left.samples_used + q.left.samples_rejected, 9 * 30);
 }
 

@@ -247,8 +247,9 @@ void print_table(const json& result) {
     }
     for (const char* eye : {"left", "right"}) {
         const json& after = result["after"][eye];
-        if (after.is_null() || !after.contains("dropped_targets")) continue;
-        for (const json& d : after["dropped_targets"]) {
+        if (after.is_null() || !after.contains("target_checks")) continue;
+        for (const json& d : after["target_checks"]) {
+            if (!d["left_out"].get<bool>()) continue;
             std::printf(
                 "%s eye: target (%.2f, %.2f) left out of the fit: the other targets put its %d "
                 "samples %s away (%s expected); the tracker misread the eye there, or it looked "

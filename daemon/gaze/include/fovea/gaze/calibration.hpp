@@ -1,9 +1,9 @@
 // Per-eye mapping from raw tracker coordinates to normalized display coordinates: a second-order
 // polynomial with cross terms (x' = a0 + a1 x + a2 y + a3 xy + a4 x^2 + a5 y^2, same for y'),
 // least squares over all calibration samples, one outlier-rejection pass, then a refit.
-// Before that, a target that no such mapping through the other targets explains (its raw
-// position is far from where they put it: the tracker misread the pupil there, or the eye was
-// elsewhere) is left out of that eye's fit and reported.
+// Before that, with 8 targets or more, each target is checked against the mapping through the
+// other targets; one it cannot explain (its raw position far from where they put it: the
+// tracker misread the pupil there, or the eye was elsewhere) is left out of that eye's fit.
 // Samples whose targets lie within 3 deg of a target's first sample belong to that target: a
 // head-mounted scene camera sees a marker move a little as the head moves.
 // Quality per eye in degrees: accuracy = mean angular offset from the targets; precision = RMS
@@ -26,14 +26,16 @@
 
 namespace fovea::gaze {
 
-// A target left out of one eye's fit: how far the fit through the other targets puts its
+// One target of one eye against the fit through the other targets: how far that fit puts its
 // samples (their median), and how far it would put a target there that fitted as well as the
-// others (their residual spread, widened by the target's leverage).
-struct DroppedTarget {
+// others (their residual spread, widened by the target's leverage: a studentized deleted
+// residual is their ratio). A target left out was checked against the targets still in then.
+struct TargetCheck {
     double x = kNaN, y = kNaN;  // normalized display coordinates (the target's median)
     double residual_deg = kNaN;
     double expected_deg = kNaN;
     int samples = 0;
+    bool left_out = false;
 };
 
 struct EyeQuality {
@@ -42,8 +44,8 @@ struct EyeQuality {
     double precision_rms_deg = kNaN;  // RMS of sample-to-sample distances
     double precision_sd_deg = kNaN;   // SD of samples around each target's mean
     int samples_used = 0;
-    int samples_rejected = 0;  // by the outlier pass
-    std::vector<DroppedTarget> dropped_targets;
+    int samples_rejected = 0;                // by the outlier pass
+    std::vector<TargetCheck> target_checks;  // empty with fewer than 8 targets
 };
 
 struct CalibrationQuality {
